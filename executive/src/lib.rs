@@ -3,6 +3,24 @@
 //! It decides; it talks to the world only through the adapter traits in [`robot`], one small trait per
 //! capability in the manner of OpenRR's `arci`. A simulation, a real robot or a log replay plugs in
 //! behind the same traits.
+//!
+//! The decision logic is a pure transition function ([`machine::transition`]) over [`State`]s and
+//! [`Event`]s that emits [`Command`]s; the push test's fused decision is [`push_test::classify`].
 #![warn(missing_docs)]
 
+pub mod command;
+pub mod config;
+pub mod event;
+pub mod explain;
+pub mod machine;
+pub mod push_test;
 pub mod robot;
+pub mod state;
+
+pub use command::Command;
+pub use config::{CandidatePolicy, ExecutiveConfig};
+pub use event::{Candidate, Event};
+pub use explain::{Explanation, TestRecord};
+pub use machine::{Edge, Knowledge, Step, start, transition};
+pub use push_test::{Finding, PushEvidence, PushIntent, Verdict};
+pub use state::{AbortReason, Approach, Purpose, State};

@@ -1,0 +1,62 @@
+//! The executive's parameters.
+
+use crate::push_test::ClassifierConfig;
+
+/// How push candidates are ordered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CandidatePolicy {
+    /// The obstacle nearest the robot first (the paper's rule).
+    #[default]
+    Nearest,
+    /// The obstacle whose removal opens the cheapest path first.
+    Blocking,
+}
+
+impl std::str::FromStr for CandidatePolicy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "nearest" => Ok(Self::Nearest),
+            "blocking" => Ok(Self::Blocking),
+            other => Err(format!(
+                "unknown policy '{other}': expected nearest or blocking"
+            )),
+        }
+    }
+}
+
+/// Limits and thresholds of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExecutiveConfig {
+    /// How push candidates are ordered.
+    pub policy: CandidatePolicy,
+    /// Push tests allowed in one run (retests included).
+    pub max_push_tests: u32,
+    /// Replans allowed in one run (blocked walks and invalidated paths).
+    pub max_replans: u32,
+    /// Robot time allowed for the run (s).
+    pub max_robot_time: f64,
+    /// Jams while clearing after which an object is no longer tried.
+    pub max_jams: u32,
+    /// Clearing pushes of one object after which it is no longer tried.
+    pub max_clears_per_object: u32,
+    /// Force limit of every guarded move (N). The paper: 20 N.
+    pub force_limit: f64,
+    /// The fused decision's thresholds.
+    pub classifier: ClassifierConfig,
+}
+
+impl Default for ExecutiveConfig {
+    fn default() -> Self {
+        Self {
+            policy: CandidatePolicy::Nearest,
+            max_push_tests: 8,
+            max_replans: 20,
+            max_robot_time: 1800.0,
+            max_jams: 2,
+            max_clears_per_object: 3,
+            force_limit: 20.0,
+            classifier: ClassifierConfig::default(),
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! Events: what the runner reports back to the machine after executing its commands.
+
+use nudge_perception::ObjectId;
+
+use crate::push_test::{PushEvidence, PushIntent};
+
+/// An obstacle the runner offers as a push candidate, in the order of the policy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidate {
+    /// The obstacle.
+    pub id: ObjectId,
+    /// The obstacle-type grid already knows it as movable from passive evidence (it was seen moving).
+    pub passively_movable: bool,
+}
+
+/// Something that happened, fed to the machine by the runner.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Event {
+    /// Every look-around view was captured.
+    LookedAround {
+        /// How many clouds.
+        views: usize,
+    },
+    /// Perception turned the clouds into obstacles and updated the grid.
+    ObjectsDetected {
+        /// How many obstacles.
+        count: usize,
+    },
+    /// The planner found a path to the goal.
+    PathFound {
+        /// Its length (m).
+        length: f64,
+    },
+    /// The planner found no path to the goal.
+    NoPath {
+        /// The planner's reason.
+        reason: String,
+    },
+    /// The walk under way reached its last waypoint (for `Navigate`: the goal region).
+    Arrived,
+    /// The robot reported its walk blocked and stopped.
+    WalkBlocked,
+    /// The grid's replanning flag rose, or a new obstacle lies on the path.
+    PathInvalidated {
+        /// What the grid or perception saw.
+        reason: String,
+    },
+    /// Push candidates ranked by the configured policy, best first.
+    CandidatesRanked(Vec<Candidate>),
+    /// The push planner produced a plan for the target.
+    PushPlanned(PushIntent),
+    /// No push of the target could be planned.
+    NoPushPlan {
+        /// The push planner's reason.
+        reason: String,
+    },
+    /// The push test finished with this evidence.
+    PushTestDone(PushEvidence),
+    /// The clearing push moved the object as planned.
+    Cleared {
+        /// How far the object moved (m).
+        moved: f64,
+    },
+    /// The clearing push stopped at the force limit.
+    Jammed {
+        /// Peak force (N).
+        peak_force: f64,
+        /// How far the object moved before it jammed (m).
+        moved: f64,
+    },
+    /// The safe stop (arm retracted, base stopped) finished.
+    Stopped,
+    /// Cancel requested from outside.
+    Cancel,
+    /// An adapter call failed.
+    RobotFailed(String),
+    /// Perception failed on the robot's data.
+    PerceptionFailed(String),
+    /// The robot-time budget ran out at this robot time (s).
+    TimeUp(f64),
+}
+
+impl Event {
+    /// The event's name for logs and coverage.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Event::LookedAround { .. } => "LookedAround",
+            Event::ObjectsDetected { .. } => "ObjectsDetected",
+            Event::PathFound { .. } => "PathFound",
+            Event::NoPath { .. } => "NoPath",
+            Event::Arrived => "Arrived",
+            Event::WalkBlocked => "WalkBlocked",
+            Event::PathInvalidated { .. } => "PathInvalidated",
+            Event::CandidatesRanked(_) => "CandidatesRanked",
+            Event::PushPlanned(_) => "PushPlanned",
+            Event::NoPushPlan { .. } => "NoPushPlan",
+            Event::PushTestDone(_) => "PushTestDone",
+            Event::Cleared { .. } => "Cleared",
+            Event::Jammed { .. } => "Jammed",
+            Event::Stopped => "Stopped",
+            Event::Cancel => "Cancel",
+            Event::RobotFailed(_) => "RobotFailed",
+            Event::PerceptionFailed(_) => "PerceptionFailed",
+            Event::TimeUp(_) => "TimeUp",
+        }
+    }
+}

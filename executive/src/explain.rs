@@ -1,0 +1,87 @@
+//! Explained outcomes: what the executive tested and why no plan exists.
+
+use std::collections::BTreeMap;
+
+use nudge_perception::ObjectId;
+
+use crate::push_test::{Finding, Verdict};
+
+/// One push test, summarised for reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TestRecord {
+    /// The object tested.
+    pub object: ObjectId,
+    /// 1 for the first test of this object, 2 for the retest.
+    pub attempt: u8,
+    /// Peak wrist force (N).
+    pub peak_force: f64,
+    /// Colour-ICP displacement (mm), if ICP ran.
+    pub icp_mm: Option<f64>,
+    /// Hand travel after contact (mm).
+    pub hand_travel_mm: f64,
+    /// What this test found.
+    pub finding: Finding,
+}
+
+/// What the executive knew when the run ended, for `NoPathToGoal` and `Aborted`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Explanation {
+    /// Every push test, in order.
+    pub tests: Vec<TestRecord>,
+    /// The verdict on each object that has one.
+    pub verdicts: BTreeMap<ObjectId, Verdict>,
+    /// Objects no push could be planned for, with the planner's reason.
+    pub unpushable: BTreeMap<ObjectId, String>,
+    /// Objects that jammed while being cleared, with how often.
+    pub jams: BTreeMap<ObjectId, u32>,
+    /// The planner's last reason for finding no path.
+    pub no_path: Option<String>,
+}
+
+impl Explanation {
+    /// Objects found static.
+    pub fn static_objects(&self) -> Vec<ObjectId> {
+        self.verdicts
+            .iter()
+            .filter(|(_, v)| !v.is_movable())
+            .map(|(id, _)| *id)
+            .collect()
+    }
+
+    /// Objects found movable.
+    pub fn movable_objects(&self) -> Vec<ObjectId> {
+        self.verdicts
+            .iter()
+            .filter(|(_, v)| v.is_movable())
+            .map(|(id, _)| *id)
+            .collect()
+    }
+}
+
+impl std::fmt::Display for Explanation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(reason) = &self.no_path {
+            writeln!(f, "no path: {reason}")?;
+        }
+        for t in &self.tests {
+            let icp = t
+                .icp_mm
+                .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
+            writeln!(
+                f,
+                "push test {} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
+                t.object, t.attempt, t.peak_force, t.hand_travel_mm, t.finding
+            )?;
+        }
+        for (id, v) in &self.verdicts {
+            writeln!(f, "{id}: {v:?}")?;
+        }
+        for (id, why) in &self.unpushable {
+            writeln!(f, "{id}: no push plan ({why})")?;
+        }
+        for (id, n) in &self.jams {
+            writeln!(f, "{id}: jammed {n} time(s) while clearing")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,541 @@
+//! The pure transition function: (state, knowledge, event, config) → (next state, knowledge, commands).
+//!
+//! No I/O, no clock, no robot: the runner executes the commands and feeds back events, so every edge
+//! of the loop can be unit-tested with plain values. Every transition names its [`Edge`], which is how
+//! the tests prove they cover the whole machine.
+
+use std::collections::BTreeMap;
+
+use nudge_perception::ObjectId;
+
+use crate::command::Command;
+use crate::config::ExecutiveConfig;
+use crate::event::{Candidate, Event};
+use crate::explain::{Explanation, TestRecord};
+use crate::push_test::{Finding, PushEvidence, PushIntent, Verdict, classify};
+use crate::state::{AbortReason, Approach, Purpose, State};
+
+/// What the executive has learnt so far in a run.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Knowledge {
+    /// Tests, verdicts, unpushable objects, jams and the last no-path reason.
+    pub explanation: Explanation,
+    /// Push tests started (retests included).
+    pub push_tests: u32,
+    /// Replans (blocked walks and invalidated paths).
+    pub replans: u32,
+    /// Clearing pushes finished per object.
+    pub clears: BTreeMap<ObjectId, u32>,
+}
+
+/// Every edge of the machine, for timelines and coverage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Edge {
+    /// The run starts with a look-around.
+    Start,
+    /// LookAround → DetectObjects.
+    LookAroundDone,
+    /// DetectObjects → PlanPath.
+    Detected,
+    /// PlanPath → Navigate.
+    PathFound,
+    /// PlanPath → SelectCandidate.
+    NoPath,
+    /// Navigate → Goal.
+    ReachedGoal,
+    /// Navigate → PlanPath: the grid flagged the path or a new obstacle lies on it.
+    PathInvalidated,
+    /// Navigate → LookAround: the robot reported its walk blocked.
+    WalkBlocked,
+    /// A replan past the limit → Stopping.
+    ReplanLimit,
+    /// SelectCandidate → ApproachPushPose(Clear): the candidate is already known movable.
+    KnownMovable,
+    /// SelectCandidate → ApproachPushPose(Test).
+    Candidate,
+    /// A push test past the limit → Stopping.
+    PushTestLimit,
+    /// SelectCandidate → NoPathToGoal.
+    NoCandidateLeft,
+    /// ApproachPushPose(Planning) → ApproachPushPose(Walking).
+    PushPlanned,
+    /// ApproachPushPose(Planning) → SelectCandidate.
+    NoPushPlan,
+    /// ApproachPushPose(Walking, Test) → PushTest.
+    AtPushPoseForTest,
+    /// ApproachPushPose(Walking, Clear) → ClearPath.
+    AtPushPoseForClear,
+    /// ApproachPushPose(Walking) → LookAround: the approach walk was blocked.
+    ApproachBlocked,
+    /// PushTest → SelectCandidate: static.
+    FoundStatic,
+    /// PushTest → ClearPath: movable.
+    FoundMovable,
+    /// PushTest → PushTest: ambiguous, retest once.
+    Retest,
+    /// PushTest → SelectCandidate: ambiguous twice, taken as static.
+    AmbiguousTwice,
+    /// ClearPath → LookAround: the object moved as planned.
+    Cleared,
+    /// ClearPath → LookAround: the object jammed at the force limit.
+    Jammed,
+    /// Stopping → Aborted.
+    Stopped,
+    /// Stopping → Aborted: the safe stop itself failed.
+    StopFailed,
+    /// Stopping absorbs everything but its own end.
+    AlreadyStopping,
+    /// Any running state → Stopping: cancelled.
+    Cancel,
+    /// Any running state → Stopping: an adapter call failed.
+    RobotFailure,
+    /// Any running state → Stopping: perception failed.
+    PerceptionFailure,
+    /// Any running state → Stopping: robot-time budget spent.
+    TimeUp,
+    /// An event the state does not expect → Stopping (a runner bug, never a panic).
+    Unexpected,
+    /// A terminal state ignores further events.
+    AfterEnd,
+}
+
+impl Edge {
+    /// Every edge, in declaration order.
+    pub const ALL: [Edge; 33] = [
+        Edge::Start,
+        Edge::LookAroundDone,
+        Edge::Detected,
+        Edge::PathFound,
+        Edge::NoPath,
+        Edge::ReachedGoal,
+        Edge::PathInvalidated,
+        Edge::WalkBlocked,
+        Edge::ReplanLimit,
+        Edge::KnownMovable,
+        Edge::Candidate,
+        Edge::PushTestLimit,
+        Edge::NoCandidateLeft,
+        Edge::PushPlanned,
+        Edge::NoPushPlan,
+        Edge::AtPushPoseForTest,
+        Edge::AtPushPoseForClear,
+        Edge::ApproachBlocked,
+        Edge::FoundStatic,
+        Edge::FoundMovable,
+        Edge::Retest,
+        Edge::AmbiguousTwice,
+        Edge::Cleared,
+        Edge::Jammed,
+        Edge::Stopped,
+        Edge::StopFailed,
+        Edge::AlreadyStopping,
+        Edge::Cancel,
+        Edge::RobotFailure,
+        Edge::PerceptionFailure,
+        Edge::TimeUp,
+        Edge::Unexpected,
+        Edge::AfterEnd,
+    ];
+}
+
+/// The result of one transition.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// The next state.
+    pub state: State,
+    /// What the executive knows after the transition.
+    pub knowledge: Knowledge,
+    /// What the runner must do next, in order.
+    pub commands: Vec<Command>,
+    /// Which edge fired.
+    pub edge: Edge,
+}
+
+/// The first step of a run: look around.
+pub fn start() -> Step {
+    Step {
+        state: State::LookAround,
+        knowledge: Knowledge::default(),
+        commands: vec![Command::LookAround],
+        edge: Edge::Start,
+    }
+}
+
+/// The transition function.
+pub fn transition(
+    state: &State,
+    knowledge: &Knowledge,
+    event: &Event,
+    config: &ExecutiveConfig,
+) -> Step {
+    let mut k = knowledge.clone();
+    if state.is_terminal() {
+        return step(state.clone(), k, vec![], Edge::AfterEnd);
+    }
+    if let State::Stopping(reason) = state {
+        return match event {
+            Event::Stopped => aborted(reason.clone(), k, Edge::Stopped),
+            Event::RobotFailed(_) => aborted(reason.clone(), k, Edge::StopFailed),
+            _ => step(state.clone(), k, vec![], Edge::AlreadyStopping),
+        };
+    }
+    match event {
+        Event::Cancel => return stopping(AbortReason::Cancelled, k, Edge::Cancel),
+        Event::RobotFailed(e) => {
+            return stopping(AbortReason::Robot(e.clone()), k, Edge::RobotFailure);
+        }
+        Event::PerceptionFailed(e) => {
+            return stopping(
+                AbortReason::Perception(e.clone()),
+                k,
+                Edge::PerceptionFailure,
+            );
+        }
+        Event::TimeUp(t) => return stopping(AbortReason::TimeLimit(*t), k, Edge::TimeUp),
+        _ => {}
+    }
+
+    match (state, event) {
+        (State::LookAround, Event::LookedAround { .. }) => step(
+            State::DetectObjects,
+            k,
+            vec![Command::DetectObjects],
+            Edge::LookAroundDone,
+        ),
+        (State::DetectObjects, Event::ObjectsDetected { .. }) => {
+            step(State::PlanPath, k, vec![Command::PlanPath], Edge::Detected)
+        }
+        (State::PlanPath, Event::PathFound { .. }) => step(
+            State::Navigate,
+            k,
+            vec![Command::FollowPath],
+            Edge::PathFound,
+        ),
+        (State::PlanPath, Event::NoPath { reason }) => {
+            k.explanation.no_path = Some(reason.clone());
+            select_candidate(k, config, Edge::NoPath)
+        }
+        (State::Navigate, Event::Arrived) => step(State::Goal, k, vec![], Edge::ReachedGoal),
+        (State::Navigate, Event::PathInvalidated { .. }) => replan(
+            k,
+            config,
+            State::PlanPath,
+            vec![Command::StopWalk, Command::PlanPath],
+            Edge::PathInvalidated,
+        ),
+        (State::Navigate, Event::WalkBlocked) => replan(
+            k,
+            config,
+            State::LookAround,
+            vec![Command::LookAround],
+            Edge::WalkBlocked,
+        ),
+        (State::SelectCandidate, Event::CandidatesRanked(list)) => pick(list, k, config),
+        (
+            State::ApproachPushPose {
+                target,
+                purpose,
+                phase: Approach::Planning,
+            },
+            Event::PushPlanned(intent),
+        ) if intent.target == *target => step(
+            State::ApproachPushPose {
+                target: *target,
+                purpose: *purpose,
+                phase: Approach::Walking(intent.clone()),
+            },
+            k,
+            vec![Command::WalkToPushPose(intent.clone())],
+            Edge::PushPlanned,
+        ),
+        (
+            State::ApproachPushPose {
+                target,
+                phase: Approach::Planning,
+                ..
+            },
+            Event::NoPushPlan { reason },
+        ) => {
+            k.explanation.unpushable.insert(*target, reason.clone());
+            select_candidate(k, config, Edge::NoPushPlan)
+        }
+        (
+            State::ApproachPushPose {
+                target,
+                purpose,
+                phase: Approach::Walking(intent),
+            },
+            Event::Arrived,
+        ) => match purpose {
+            Purpose::Test => {
+                start_push_test(*target, intent, 1, k, config, Edge::AtPushPoseForTest)
+            }
+            Purpose::Clear => step(
+                State::ClearPath {
+                    target: *target,
+                    intent: intent.clone(),
+                },
+                k,
+                vec![Command::ClearPath(intent.clone())],
+                Edge::AtPushPoseForClear,
+            ),
+        },
+        (
+            State::ApproachPushPose {
+                phase: Approach::Walking(_),
+                ..
+            },
+            Event::WalkBlocked,
+        ) => replan(
+            k,
+            config,
+            State::LookAround,
+            vec![Command::LookAround],
+            Edge::ApproachBlocked,
+        ),
+        (
+            State::PushTest {
+                target,
+                intent,
+                attempt,
+            },
+            Event::PushTestDone(evidence),
+        ) => conclude_push_test(*target, intent, *attempt, evidence, k, config),
+        (State::ClearPath { target, .. }, Event::Cleared { .. }) => {
+            *k.clears.entry(*target).or_default() += 1;
+            step(
+                State::LookAround,
+                k,
+                vec![Command::LookAround],
+                Edge::Cleared,
+            )
+        }
+        (State::ClearPath { target, .. }, Event::Jammed { .. }) => {
+            *k.explanation.jams.entry(*target).or_default() += 1;
+            step(
+                State::LookAround,
+                k,
+                vec![Command::LookAround],
+                Edge::Jammed,
+            )
+        }
+        (state, event) => stopping(
+            AbortReason::Internal(format!(
+                "event {} is not expected in state {}",
+                event.name(),
+                state.name()
+            )),
+            k,
+            Edge::Unexpected,
+        ),
+    }
+}
+
+fn step(state: State, knowledge: Knowledge, commands: Vec<Command>, edge: Edge) -> Step {
+    Step {
+        state,
+        knowledge,
+        commands,
+        edge,
+    }
+}
+
+fn stopping(reason: AbortReason, k: Knowledge, edge: Edge) -> Step {
+    step(State::Stopping(reason), k, vec![Command::SafeStop], edge)
+}
+
+fn aborted(reason: AbortReason, k: Knowledge, edge: Edge) -> Step {
+    let explanation = k.explanation.clone();
+    step(State::Aborted(reason, explanation), k, vec![], edge)
+}
+
+/// Counts a replan, or stops when the budget is spent.
+fn replan(
+    mut k: Knowledge,
+    config: &ExecutiveConfig,
+    next: State,
+    commands: Vec<Command>,
+    edge: Edge,
+) -> Step {
+    if k.replans >= config.max_replans {
+        return stopping(
+            AbortReason::ReplanLimit(config.max_replans),
+            k,
+            Edge::ReplanLimit,
+        );
+    }
+    k.replans += 1;
+    step(next, k, commands, edge)
+}
+
+/// Objects that need no further push: decided static, impossible to push, jammed or cleared too often.
+fn settled(k: &Knowledge, config: &ExecutiveConfig) -> Vec<ObjectId> {
+    let e = &k.explanation;
+    let mut out: Vec<ObjectId> = e.static_objects();
+    out.extend(e.unpushable.keys().copied());
+    out.extend(
+        e.jams
+            .iter()
+            .filter(|(_, n)| **n >= config.max_jams)
+            .map(|(id, _)| *id),
+    );
+    out.extend(
+        k.clears
+            .iter()
+            .filter(|(_, n)| **n >= config.max_clears_per_object)
+            .map(|(id, _)| *id),
+    );
+    out.sort();
+    out.dedup();
+    out
+}
+
+fn select_candidate(k: Knowledge, config: &ExecutiveConfig, edge: Edge) -> Step {
+    let exclude = settled(&k, config);
+    step(
+        State::SelectCandidate,
+        k,
+        vec![Command::RankCandidates {
+            policy: config.policy,
+            exclude,
+        }],
+        edge,
+    )
+}
+
+fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
+    let exclude = settled(&k, config);
+    let Some(candidate) = list.iter().find(|c| !exclude.contains(&c.id)) else {
+        let explanation = k.explanation.clone();
+        return step(
+            State::NoPathToGoal(explanation),
+            k,
+            vec![],
+            Edge::NoCandidateLeft,
+        );
+    };
+    let known_movable = candidate.passively_movable
+        || k.explanation
+            .verdicts
+            .get(&candidate.id)
+            .is_some_and(Verdict::is_movable);
+    let (purpose, edge) = if known_movable {
+        (Purpose::Clear, Edge::KnownMovable)
+    } else {
+        if k.push_tests >= config.max_push_tests {
+            return stopping(
+                AbortReason::PushTestLimit(config.max_push_tests),
+                k,
+                Edge::PushTestLimit,
+            );
+        }
+        (Purpose::Test, Edge::Candidate)
+    };
+    step(
+        State::ApproachPushPose {
+            target: candidate.id,
+            purpose,
+            phase: Approach::Planning,
+        },
+        k,
+        vec![Command::PlanPush {
+            target: candidate.id,
+            purpose,
+        }],
+        edge,
+    )
+}
+
+fn start_push_test(
+    target: ObjectId,
+    intent: &PushIntent,
+    attempt: u8,
+    mut k: Knowledge,
+    config: &ExecutiveConfig,
+    edge: Edge,
+) -> Step {
+    if k.push_tests >= config.max_push_tests {
+        return stopping(
+            AbortReason::PushTestLimit(config.max_push_tests),
+            k,
+            Edge::PushTestLimit,
+        );
+    }
+    k.push_tests += 1;
+    step(
+        State::PushTest {
+            target,
+            intent: intent.clone(),
+            attempt,
+        },
+        k,
+        vec![Command::PushTest {
+            intent: intent.clone(),
+            attempt,
+        }],
+        edge,
+    )
+}
+
+fn conclude_push_test(
+    target: ObjectId,
+    intent: &PushIntent,
+    attempt: u8,
+    evidence: &PushEvidence,
+    mut k: Knowledge,
+    config: &ExecutiveConfig,
+) -> Step {
+    let finding = classify(evidence, &config.classifier);
+    k.explanation.tests.push(TestRecord {
+        object: target,
+        attempt,
+        peak_force: evidence.peak_force,
+        icp_mm: evidence.icp.map(|icp| icp.displacement * 1e3),
+        hand_travel_mm: evidence.hand_travel * 1e3,
+        finding: finding.clone(),
+    });
+    let push_test = k.push_tests;
+    let verdict_step = |mut k: Knowledge, verdict: Verdict, edge: Edge| {
+        k.explanation.verdicts.insert(target, verdict.clone());
+        let mark = Command::MarkVerdict {
+            target,
+            verdict: verdict.clone(),
+            push_test,
+        };
+        if verdict.is_movable() {
+            step(
+                State::ClearPath {
+                    target,
+                    intent: intent.clone(),
+                },
+                k,
+                vec![mark, Command::ClearPath(intent.clone())],
+                edge,
+            )
+        } else {
+            let mut s = select_candidate(k, config, edge);
+            s.commands.insert(0, mark);
+            s
+        }
+    };
+    match finding {
+        Finding::Static => verdict_step(
+            k,
+            Verdict::Static {
+                after_ambiguity: false,
+            },
+            Edge::FoundStatic,
+        ),
+        Finding::Movable => verdict_step(k, Verdict::Movable, Edge::FoundMovable),
+        Finding::Ambiguous(_) if attempt < 2 => {
+            start_push_test(target, intent, attempt + 1, k, config, Edge::Retest)
+        }
+        Finding::Ambiguous(_) => verdict_step(
+            k,
+            Verdict::Static {
+                after_ambiguity: true,
+            },
+            Edge::AmbiguousTwice,
+        ),
+    }
+}

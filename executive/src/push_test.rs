@@ -1,0 +1,264 @@
+//! The push test's fused decision: wrist force, hand travel and colour-ICP displacement together say
+//! whether an object is static or movable (Kakiuchi §V).
+//!
+//! The paper's two clean cases: pushing the table, the force reached the 20 N limit while ICP read
+//! under 10 mm (static); pushing a chair, ICP read 189.3 mm against 182.2 mm of hand travel after
+//! contact (movable). Everything else is ambiguous and earns one retest; a second ambiguous reading is
+//! treated as static, and the verdict says so.
+
+use nalgebra::{Isometry2, Unit, Vector2};
+use nudge_perception::ObjectId;
+
+/// What the executive asks the runner to execute for one push: where to stand and how to push.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushIntent {
+    /// The object to push.
+    pub target: ObjectId,
+    /// Where the base stands, facing the push (map frame).
+    pub stand: Isometry2<f64>,
+    /// Hand height above the floor (m): the top of the face the robot pushes.
+    pub hand_height: f64,
+    /// Push direction in the map frame.
+    pub direction: Unit<Vector2<f64>>,
+    /// How far the object should travel when clearing the way (m).
+    pub distance: f64,
+}
+
+/// The colour-ICP reading of a pushed object's points, before against after.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IcpReading {
+    /// Horizontal displacement of the object (m).
+    pub displacement: f64,
+    /// Yaw change (deg).
+    pub yaw_deg: f64,
+    /// Whether ICP converged.
+    pub converged: bool,
+    /// Fraction of points with an inlier correspondence.
+    pub fitness: f64,
+    /// Root-mean-square residual of the inliers (m).
+    pub rmse: f64,
+}
+
+/// Everything one push test measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushEvidence {
+    /// The force limit the guarded move carried (N).
+    pub force_limit: f64,
+    /// Peak norm of the tared wrist force (N).
+    pub peak_force: f64,
+    /// Whether the guarded move stopped at the force limit.
+    pub reached_limit: bool,
+    /// Whether the hand touched anything (force over the contact threshold).
+    pub contact: bool,
+    /// Hand travel along the push direction after first contact (m).
+    pub hand_travel: f64,
+    /// Colour-ICP reading, or `None` when ICP could not run (too few points).
+    pub icp: Option<IcpReading>,
+    /// Force trace: (robot time s, force norm N), for plots like the paper's Fig. 12.
+    pub force_trace: Vec<(f64, f64)>,
+}
+
+/// Thresholds of the fused decision.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassifierConfig {
+    /// ICP displacement below which the object did not move (m). The paper: 10 mm.
+    pub still_below: f64,
+    /// Absolute tolerance between ICP displacement and hand travel (m).
+    pub agreement_abs: f64,
+    /// Relative tolerance between ICP displacement and hand travel (fraction of the hand travel).
+    pub agreement_rel: f64,
+}
+
+impl Default for ClassifierConfig {
+    fn default() -> Self {
+        Self {
+            still_below: 0.010,
+            agreement_abs: 0.030,
+            agreement_rel: 0.25,
+        }
+    }
+}
+
+/// Why a push test could not decide.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Ambiguity {
+    /// The hand never touched anything.
+    NoContact,
+    /// ICP had too few points or did not converge.
+    IcpFailed,
+    /// The object moved, but then the force reached the limit (jammed after moving?).
+    MovedThenLimit {
+        /// ICP displacement (m).
+        icp: f64,
+    },
+    /// ICP and hand travel disagree.
+    Disagreement {
+        /// ICP displacement (m).
+        icp: f64,
+        /// Hand travel after contact (m).
+        hand: f64,
+    },
+    /// Touched, but neither moved nor reached the limit.
+    NeitherMovedNorResisted {
+        /// Peak force (N).
+        peak_force: f64,
+    },
+}
+
+impl std::fmt::Display for Ambiguity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Ambiguity::NoContact => write!(f, "the hand never touched the object"),
+            Ambiguity::IcpFailed => write!(f, "colour ICP could not measure the object"),
+            Ambiguity::MovedThenLimit { icp } => write!(
+                f,
+                "moved {:.1} mm, then the force reached the limit",
+                icp * 1e3
+            ),
+            Ambiguity::Disagreement { icp, hand } => write!(
+                f,
+                "ICP read {:.1} mm but the hand travelled {:.1} mm",
+                icp * 1e3,
+                hand * 1e3
+            ),
+            Ambiguity::NeitherMovedNorResisted { peak_force } => write!(
+                f,
+                "touched (peak {peak_force:.1} N) but neither moved nor resisted"
+            ),
+        }
+    }
+}
+
+/// What one push test found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Finding {
+    /// Force at the limit, no displacement.
+    Static,
+    /// Displacement seen by ICP, agreeing with the hand.
+    Movable,
+    /// Could not decide.
+    Ambiguous(Ambiguity),
+}
+
+/// The fused decision on one push test's evidence.
+pub fn classify(evidence: &PushEvidence, config: &ClassifierConfig) -> Finding {
+    if !evidence.contact {
+        return Finding::Ambiguous(Ambiguity::NoContact);
+    }
+    let Some(icp) = evidence.icp.filter(|icp| icp.converged) else {
+        return Finding::Ambiguous(Ambiguity::IcpFailed);
+    };
+    let moved = icp.displacement >= config.still_below;
+    match (moved, evidence.reached_limit) {
+        (false, true) => Finding::Static,
+        (false, false) => Finding::Ambiguous(Ambiguity::NeitherMovedNorResisted {
+            peak_force: evidence.peak_force,
+        }),
+        (true, true) => Finding::Ambiguous(Ambiguity::MovedThenLimit {
+            icp: icp.displacement,
+        }),
+        (true, false) => {
+            let tolerance = config
+                .agreement_abs
+                .max(config.agreement_rel * evidence.hand_travel);
+            if (icp.displacement - evidence.hand_travel).abs() <= tolerance {
+                Finding::Movable
+            } else {
+                Finding::Ambiguous(Ambiguity::Disagreement {
+                    icp: icp.displacement,
+                    hand: evidence.hand_travel,
+                })
+            }
+        }
+    }
+}
+
+/// The executive's final word on an object.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    /// It does not move under the push force limit.
+    Static {
+        /// True when two ambiguous tests were taken as static.
+        after_ambiguity: bool,
+    },
+    /// It moves.
+    Movable,
+}
+
+impl Verdict {
+    /// True for `Movable`.
+    pub fn is_movable(&self) -> bool {
+        matches!(self, Verdict::Movable)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn evidence(contact: bool, limit: bool, hand: f64, icp: Option<f64>) -> PushEvidence {
+        PushEvidence {
+            force_limit: 20.0,
+            peak_force: if limit { 20.3 } else { 15.0 },
+            reached_limit: limit,
+            contact,
+            hand_travel: hand,
+            icp: icp.map(|d| IcpReading {
+                displacement: d,
+                yaw_deg: 0.0,
+                converged: true,
+                fitness: 0.9,
+                rmse: 0.003,
+            }),
+            force_trace: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_papers_two_clean_cases_classify_as_the_paper_found() {
+        // Invariant: limit reached with ICP under 10 mm is static; 189.3 mm ICP vs 182.2 mm hand is movable.
+        let c = ClassifierConfig::default();
+        assert_eq!(
+            classify(&evidence(true, true, 0.002, Some(0.004)), &c),
+            Finding::Static
+        );
+        assert_eq!(
+            classify(&evidence(true, false, 0.1822, Some(0.1893)), &c),
+            Finding::Movable
+        );
+    }
+
+    #[test]
+    fn every_unclear_reading_is_ambiguous_with_its_reason() {
+        // Invariant: no contact, failed ICP, motion then limit, disagreement and no-resistance are ambiguous.
+        let c = ClassifierConfig::default();
+        let cases = [
+            (evidence(false, false, 0.0, Some(0.0)), "NoContact"),
+            (evidence(true, true, 0.0, None), "IcpFailed"),
+            (evidence(true, true, 0.05, Some(0.05)), "MovedThenLimit"),
+            (evidence(true, false, 0.20, Some(0.05)), "Disagreement"),
+            (evidence(true, false, 0.0, Some(0.002)), "NeitherMoved"),
+        ];
+        for (e, name) in cases {
+            let finding = classify(&e, &c);
+            assert!(
+                matches!(finding, Finding::Ambiguous(_)),
+                "{name}: got {finding:?}"
+            );
+            assert!(format!("{finding:?}").starts_with(&format!("Ambiguous({name}")));
+        }
+    }
+
+    #[test]
+    fn an_unconverged_icp_never_counts_as_motion() {
+        // Invariant: a large displacement from an ICP that did not converge is not evidence of motion.
+        let mut e = evidence(true, false, 0.2, Some(0.2));
+        if let Some(icp) = e.icp.as_mut() {
+            icp.converged = false;
+        }
+        assert_eq!(
+            classify(&e, &ClassifierConfig::default()),
+            Finding::Ambiguous(Ambiguity::IcpFailed)
+        );
+    }
+}

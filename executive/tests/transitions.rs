@@ -1,0 +1,386 @@
+//! One test per edge of the executive's machine, each failure edge included, and a coverage report.
+//!
+//! Every case drives the pure transition function with plain values (no robot), asserts the next
+//! state and the commands, and returns the edge that fired; `every_edge_is_covered` runs them all.
+
+use std::collections::BTreeSet;
+
+use nalgebra::{Isometry2, Unit, Vector2};
+use nudge_executive::push_test::IcpReading;
+use nudge_executive::{
+    AbortReason, Approach, Candidate, CandidatePolicy, Command, Edge, Event, ExecutiveConfig,
+    Knowledge, Purpose, PushEvidence, PushIntent, State, Step, Verdict, start, transition,
+};
+use nudge_perception::ObjectId;
+
+const TABLE: ObjectId = ObjectId(1);
+const CHAIR: ObjectId = ObjectId(2);
+
+fn config() -> ExecutiveConfig {
+    ExecutiveConfig::default()
+}
+
+fn intent(target: ObjectId) -> PushIntent {
+    PushIntent {
+        target,
+        stand: Isometry2::new(Vector2::new(3.0, 0.55), 0.0),
+        hand_height: 0.45,
+        direction: Unit::new_normalize(Vector2::new(1.0, 0.0)),
+        distance: 0.8,
+    }
+}
+
+fn evidence(limit: bool, hand: f64, icp: f64) -> PushEvidence {
+    PushEvidence {
+        force_limit: 20.0,
+        peak_force: if limit { 20.4 } else { 14.0 },
+        reached_limit: limit,
+        contact: true,
+        hand_travel: hand,
+        icp: Some(IcpReading {
+            displacement: icp,
+            yaw_deg: 0.5,
+            converged: true,
+            fitness: 0.95,
+            rmse: 0.002,
+        }),
+        force_trace: vec![(0.0, 0.0), (1.2, 14.0)],
+    }
+}
+
+fn run(state: State, knowledge: &Knowledge, event: Event) -> Step {
+    transition(&state, knowledge, &event, &config())
+}
+
+fn candidates(ids: &[ObjectId]) -> Event {
+    Event::CandidatesRanked(
+        ids.iter()
+            .map(|&id| Candidate {
+                id,
+                passively_movable: false,
+            })
+            .collect(),
+    )
+}
+
+fn approach(target: ObjectId, purpose: Purpose, phase: Approach) -> State {
+    State::ApproachPushPose {
+        target,
+        purpose,
+        phase,
+    }
+}
+
+fn push_test(target: ObjectId, attempt: u8) -> State {
+    State::PushTest {
+        target,
+        intent: intent(target),
+        attempt,
+    }
+}
+
+fn with_static(id: ObjectId) -> Knowledge {
+    let mut k = Knowledge::default();
+    k.explanation.verdicts.insert(
+        id,
+        Verdict::Static {
+            after_ambiguity: false,
+        },
+    );
+    k
+}
+
+macro_rules! cases {
+    ($($name:ident => $body:block)*) => {
+        $(#[test] fn $name() { let _: Edge = $body; })*
+        fn all_cases() -> Vec<(&'static str, fn() -> Edge)> {
+            vec![$((stringify!($name), (|| $body) as fn() -> Edge)),*]
+        }
+    };
+}
+
+cases! {
+    run_starts_by_looking_around => {
+        // Invariant: a run begins in LookAround with one LookAround command and nothing learnt.
+        let s = start();
+        assert_eq!(s.state, State::LookAround);
+        assert_eq!(s.commands, vec![Command::LookAround]);
+        assert_eq!(s.knowledge, Knowledge::default());
+        s.edge
+    }
+    look_around_done_detects_objects => {
+        // Invariant: the end of a look-around starts object detection.
+        let s = run(State::LookAround, &Knowledge::default(), Event::LookedAround { views: 15 });
+        assert_eq!((s.state, s.commands), (State::DetectObjects, vec![Command::DetectObjects]));
+        s.edge
+    }
+    detected_objects_plan_a_path => {
+        // Invariant: detected obstacles lead to path planning.
+        let s = run(State::DetectObjects, &Knowledge::default(), Event::ObjectsDetected { count: 4 });
+        assert_eq!((s.state, s.commands), (State::PlanPath, vec![Command::PlanPath]));
+        s.edge
+    }
+    a_found_path_is_walked => {
+        // Invariant: a path leads to Navigate with FollowPath.
+        let s = run(State::PlanPath, &Knowledge::default(), Event::PathFound { length: 4.9 });
+        assert_eq!((s.state, s.commands), (State::Navigate, vec![Command::FollowPath]));
+        s.edge
+    }
+    no_path_ranks_candidates_and_keeps_the_reason => {
+        // Invariant: no path leads to SelectCandidate, ranking by the configured policy, reason kept.
+        let s = run(State::PlanPath, &Knowledge::default(), Event::NoPath { reason: "gap 0.6 m".into() });
+        assert_eq!(s.state, State::SelectCandidate);
+        assert_eq!(s.commands, vec![Command::RankCandidates { policy: CandidatePolicy::Nearest, exclude: vec![] }]);
+        assert_eq!(s.knowledge.explanation.no_path.as_deref(), Some("gap 0.6 m"));
+        s.edge
+    }
+    arriving_while_navigating_is_the_goal => {
+        // Invariant: the end of the navigation walk is the terminal Goal state.
+        let s = run(State::Navigate, &Knowledge::default(), Event::Arrived);
+        assert_eq!(s.state, State::Goal);
+        assert!(s.state.is_terminal() && s.commands.is_empty());
+        s.edge
+    }
+    an_invalidated_path_stops_and_replans => {
+        // Invariant: the grid's replanning flag stops the walk, replans and counts the replan.
+        let s = run(State::Navigate, &Knowledge::default(), Event::PathInvalidated { reason: "moving cell".into() });
+        assert_eq!((s.state, s.commands), (State::PlanPath, vec![Command::StopWalk, Command::PlanPath]));
+        assert_eq!(s.knowledge.replans, 1);
+        s.edge
+    }
+    a_blocked_walk_looks_again => {
+        // Invariant: a walk the robot reports blocked re-perceives before replanning, and counts.
+        let s = run(State::Navigate, &Knowledge::default(), Event::WalkBlocked);
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        assert_eq!(s.knowledge.replans, 1);
+        s.edge
+    }
+    replans_past_the_limit_stop_the_run => {
+        // Invariant: once max_replans is spent, a further replan stops safely with ReplanLimit.
+        let k = Knowledge { replans: config().max_replans, ..Knowledge::default() };
+        let s = run(State::Navigate, &k, Event::WalkBlocked);
+        assert_eq!(s.state, State::Stopping(AbortReason::ReplanLimit(config().max_replans)));
+        assert_eq!(s.commands, vec![Command::SafeStop]);
+        s.edge
+    }
+    a_known_movable_candidate_skips_the_push_test => {
+        // Invariant: an object the grid saw moving is cleared without a push test.
+        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true }]);
+        let s = run(State::SelectCandidate, &Knowledge::default(), e);
+        assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::Planning));
+        assert_eq!(s.commands, vec![Command::PlanPush { target: CHAIR, purpose: Purpose::Clear }]);
+        s.edge
+    }
+    the_first_unsettled_candidate_is_tested => {
+        // Invariant: the best-ranked object without a static verdict is approached for a push test.
+        let s = run(State::SelectCandidate, &with_static(TABLE), candidates(&[TABLE, CHAIR]));
+        assert_eq!(s.state, approach(CHAIR, Purpose::Test, Approach::Planning));
+        assert_eq!(s.commands, vec![Command::PlanPush { target: CHAIR, purpose: Purpose::Test }]);
+        s.edge
+    }
+    push_tests_past_the_limit_stop_the_run => {
+        // Invariant: no push test starts once max_push_tests are spent.
+        let k = Knowledge { push_tests: config().max_push_tests, ..Knowledge::default() };
+        let s = run(State::SelectCandidate, &k, candidates(&[TABLE]));
+        assert_eq!(s.state, State::Stopping(AbortReason::PushTestLimit(config().max_push_tests)));
+        s.edge
+    }
+    no_candidate_left_ends_in_no_path_with_the_evidence => {
+        // Invariant: when every candidate is settled the run ends in NoPathToGoal carrying the verdicts.
+        let s = run(State::SelectCandidate, &with_static(TABLE), candidates(&[TABLE]));
+        match &s.state {
+            State::NoPathToGoal(e) => assert_eq!(e.static_objects(), vec![TABLE]),
+            other => panic!("expected NoPathToGoal, got {other:?}"),
+        }
+        assert!(s.commands.is_empty());
+        s.edge
+    }
+    a_push_plan_walks_to_the_stand_pose => {
+        // Invariant: a push plan for the target sends the robot to its stand pose.
+        let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::PushPlanned(intent(TABLE)));
+        assert_eq!(s.state, approach(TABLE, Purpose::Test, Approach::Walking(intent(TABLE))));
+        assert_eq!(s.commands, vec![Command::WalkToPushPose(intent(TABLE))]);
+        s.edge
+    }
+    no_push_plan_marks_the_object_and_selects_again => {
+        // Invariant: an object without a push plan is settled as unpushable and the ranking is redone without it.
+        let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::NoPushPlan { reason: "no stand pose".into() });
+        assert_eq!(s.state, State::SelectCandidate);
+        assert_eq!(s.commands, vec![Command::RankCandidates { policy: CandidatePolicy::Nearest, exclude: vec![TABLE] }]);
+        assert_eq!(s.knowledge.explanation.unpushable.get(&TABLE).map(String::as_str), Some("no stand pose"));
+        s.edge
+    }
+    arriving_to_test_starts_the_first_push_test => {
+        // Invariant: at the stand pose a test purpose starts push test #1 and counts it.
+        let s = run(approach(TABLE, Purpose::Test, Approach::Walking(intent(TABLE))), &Knowledge::default(), Event::Arrived);
+        assert_eq!(s.state, push_test(TABLE, 1));
+        assert_eq!(s.commands, vec![Command::PushTest { intent: intent(TABLE), attempt: 1 }]);
+        assert_eq!(s.knowledge.push_tests, 1);
+        s.edge
+    }
+    arriving_to_clear_pushes_the_object_away => {
+        // Invariant: at the stand pose a clear purpose starts ClearPath without a test.
+        let s = run(approach(CHAIR, Purpose::Clear, Approach::Walking(intent(CHAIR))), &Knowledge::default(), Event::Arrived);
+        assert_eq!(s.state, State::ClearPath { target: CHAIR, intent: intent(CHAIR) });
+        assert_eq!(s.commands, vec![Command::ClearPath(intent(CHAIR))]);
+        assert_eq!(s.knowledge.push_tests, 0);
+        s.edge
+    }
+    a_blocked_approach_looks_again => {
+        // Invariant: an approach walk reported blocked re-perceives and counts a replan.
+        let s = run(approach(TABLE, Purpose::Test, Approach::Walking(intent(TABLE))), &Knowledge::default(), Event::WalkBlocked);
+        assert_eq!((s.state, s.knowledge.replans), (State::LookAround, 1));
+        s.edge
+    }
+    limit_without_motion_is_static_and_marked => {
+        // Invariant: force at the limit with ICP under 10 mm marks the object static in the grid and selects again.
+        let s = run(push_test(TABLE, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(true, 0.002, 0.003)));
+        assert_eq!(s.state, State::SelectCandidate);
+        assert_eq!(s.commands[0], Command::MarkVerdict { target: TABLE, verdict: Verdict::Static { after_ambiguity: false }, push_test: 1 });
+        assert!(matches!(&s.commands[1], Command::RankCandidates { exclude, .. } if exclude == &vec![TABLE]));
+        assert_eq!(s.knowledge.explanation.tests.len(), 1);
+        s.edge
+    }
+    agreeing_motion_is_movable_and_cleared => {
+        // Invariant: ICP displacement agreeing with hand travel marks movable and starts ClearPath.
+        let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 2, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.1822, 0.1893)));
+        assert_eq!(s.state, State::ClearPath { target: CHAIR, intent: intent(CHAIR) });
+        assert_eq!(s.commands, vec![
+            Command::MarkVerdict { target: CHAIR, verdict: Verdict::Movable, push_test: 2 },
+            Command::ClearPath(intent(CHAIR)),
+        ]);
+        let t = &s.knowledge.explanation.tests[0];
+        assert!((t.icp_mm.unwrap_or(0.0) - 189.3).abs() < 1e-9 && (t.hand_travel_mm - 182.2).abs() < 1e-9);
+        s.edge
+    }
+    an_ambiguous_first_test_is_retested_once => {
+        // Invariant: an ambiguous first test starts exactly one retest, counted as a push test.
+        let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.20, 0.05)));
+        assert_eq!(s.state, push_test(CHAIR, 2));
+        assert_eq!(s.knowledge.push_tests, 2);
+        s.edge
+    }
+    an_ambiguous_retest_is_static_and_says_so => {
+        // Invariant: a second ambiguous test ends static with after_ambiguity = true.
+        let s = run(push_test(CHAIR, 2), &Knowledge { push_tests: 2, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.20, 0.05)));
+        assert_eq!(s.state, State::SelectCandidate);
+        assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: true }));
+        s.edge
+    }
+    a_finished_clearing_push_looks_again => {
+        // Invariant: after a clearing push the robot re-perceives, and the clear is counted.
+        let s = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::Cleared { moved: 0.8 });
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        assert_eq!(s.knowledge.clears.get(&CHAIR), Some(&1));
+        s.edge
+    }
+    a_jammed_clearing_push_looks_again_and_counts_the_jam => {
+        // Invariant: a jam stops the push (the adapter already stopped at the limit); the robot re-perceives and replans.
+        let s = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::Jammed { peak_force: 20.1, moved: 0.3 });
+        assert_eq!(s.state, State::LookAround);
+        assert_eq!(s.knowledge.explanation.jams.get(&CHAIR), Some(&1));
+        s.edge
+    }
+    a_finished_safe_stop_aborts_with_its_reason => {
+        // Invariant: Stopping ends in Aborted with the reason it was stopping for.
+        let s = run(State::Stopping(AbortReason::Cancelled), &with_static(TABLE), Event::Stopped);
+        match &s.state {
+            State::Aborted(AbortReason::Cancelled, e) => assert_eq!(e.static_objects(), vec![TABLE]),
+            other => panic!("expected Aborted(Cancelled), got {other:?}"),
+        }
+        s.edge
+    }
+    a_failing_safe_stop_still_aborts => {
+        // Invariant: if the safe stop itself fails, the run still ends in Aborted with the original reason.
+        let s = run(State::Stopping(AbortReason::TimeLimit(1800.0)), &Knowledge::default(), Event::RobotFailed("arm".into()));
+        assert!(matches!(s.state, State::Aborted(AbortReason::TimeLimit(_), _)));
+        s.edge
+    }
+    stopping_ignores_late_events => {
+        // Invariant: while stopping, late events (a walk arriving, another cancel) change nothing.
+        let s = run(State::Stopping(AbortReason::Cancelled), &Knowledge::default(), Event::Arrived);
+        assert_eq!((s.state, s.commands), (State::Stopping(AbortReason::Cancelled), vec![]));
+        s.edge
+    }
+    cancel_retracts_before_it_stops => {
+        // Invariant: a cancel from outside during a push test retracts the arm (SafeStop) before ending.
+        let s = run(push_test(TABLE, 1), &Knowledge::default(), Event::Cancel);
+        assert_eq!((s.state, s.commands), (State::Stopping(AbortReason::Cancelled), vec![Command::SafeStop]));
+        s.edge
+    }
+    an_adapter_failure_stops_with_the_error => {
+        // Invariant: an adapter error in any running state stops safely with the error as the reason.
+        let s = run(State::Navigate, &Knowledge::default(), Event::RobotFailed("base: timeout".into()));
+        assert_eq!(s.state, State::Stopping(AbortReason::Robot("base: timeout".into())));
+        s.edge
+    }
+    a_perception_failure_stops_with_the_error => {
+        // Invariant: perception failing on the robot's data stops safely with the error.
+        let s = run(State::DetectObjects, &Knowledge::default(), Event::PerceptionFailed("no floor in front".into()));
+        assert_eq!(s.state, State::Stopping(AbortReason::Perception("no floor in front".into())));
+        s.edge
+    }
+    the_time_budget_stops_the_run => {
+        // Invariant: spending the robot-time budget stops safely from any running state.
+        let s = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::TimeUp(1800.0));
+        assert_eq!(s.state, State::Stopping(AbortReason::TimeLimit(1800.0)));
+        s.edge
+    }
+    an_unexpected_event_stops_instead_of_panicking => {
+        // Invariant: an event a state does not expect (a runner bug) stops safely with an internal reason.
+        let s = run(State::LookAround, &Knowledge::default(), Event::PathFound { length: 1.0 });
+        assert!(matches!(&s.state, State::Stopping(AbortReason::Internal(m)) if m.contains("PathFound") && m.contains("LookAround")));
+        s.edge
+    }
+    a_push_plan_for_another_object_is_unexpected => {
+        // Invariant: a plan for the wrong object is never executed.
+        let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::PushPlanned(intent(CHAIR)));
+        assert!(matches!(s.state, State::Stopping(AbortReason::Internal(_))));
+        s.edge
+    }
+    terminal_states_ignore_further_events => {
+        // Invariant: Goal, NoPathToGoal and Aborted never change.
+        let s = run(State::Goal, &Knowledge::default(), Event::Cancel);
+        assert_eq!((s.state, s.commands), (State::Goal, vec![]));
+        s.edge
+    }
+}
+
+#[test]
+fn jammed_and_over_cleared_objects_are_settled() {
+    // Invariant: objects that jammed max_jams times or were cleared max_clears times are no longer candidates.
+    let mut k = Knowledge::default();
+    k.explanation.jams.insert(CHAIR, config().max_jams);
+    k.clears.insert(TABLE, config().max_clears_per_object);
+    let s = run(State::SelectCandidate, &k, candidates(&[TABLE, CHAIR]));
+    assert!(matches!(s.state, State::NoPathToGoal(_)));
+}
+
+#[test]
+fn a_movable_verdict_from_a_past_test_skips_a_second_test() {
+    // Invariant: an object found movable earlier is cleared again without another push test.
+    let mut k = Knowledge::default();
+    k.explanation.verdicts.insert(CHAIR, Verdict::Movable);
+    let s = run(State::SelectCandidate, &k, candidates(&[CHAIR]));
+    assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::Planning));
+}
+
+#[test]
+fn every_edge_is_covered() {
+    // Invariant: the cases above exercise every edge of the machine.
+    let covered: BTreeSet<Edge> = all_cases().iter().map(|(_, case)| case()).collect();
+    let missing: Vec<Edge> = Edge::ALL
+        .iter()
+        .copied()
+        .filter(|e| !covered.contains(e))
+        .collect();
+    println!(
+        "transition coverage: {} of {} edges",
+        covered.len(),
+        Edge::ALL.len()
+    );
+    for (name, case) in all_cases() {
+        println!("  {:?} <- {name}", case());
+    }
+    assert!(missing.is_empty(), "edges without a test: {missing:?}");
+}
