@@ -1,0 +1,594 @@
+//! A scripted in-memory robot for unit tests: no physics, no sensors, just the adapter contract.
+//!
+//! It walks straight lines at a fixed speed, turns at a fixed rate, moves the head at a fixed rate,
+//! returns scripted clouds, and answers guarded moves from a scripted object in front of the hand: a
+//! static one (a stiff spring) or a sliding one (constant friction force). Failures can be injected
+//! per capability. Time passes only through [`Clock::advance`], in 1 ms substeps (the wrist rate).
+
+use std::collections::{BTreeMap, VecDeque};
+
+use nalgebra::{
+    Isometry2, Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2, Vector3,
+};
+use nudge_perception::{CloudFrame, ColourCloud};
+
+use super::{
+    ActionStatus, Arm, Base, Clock, GuardedMove, HandOutcome, Head, RangeCamera, RobotError,
+    Stamped, WalkOutcome, Wrench, WristSensor,
+};
+
+/// Substep of the fake's simulation and period of its wrist sensor (s).
+const SUBSTEP: f64 = 0.001;
+
+/// How the scripted object in front of the hand answers a push.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ObjectResponse {
+    /// A static object: force grows with penetration at this stiffness (N/m).
+    Static {
+        /// Contact stiffness (N/m).
+        stiffness: f64,
+    },
+    /// A movable object sliding at a constant friction force (N) once touched.
+    Sliding {
+        /// Friction force while sliding (N).
+        force: f64,
+    },
+}
+
+/// An object the next guarded moves touch after `contact_at` metres along their line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScriptedObject {
+    /// Distance along the move's line where the hand first touches (m).
+    pub contact_at: f64,
+    /// How the object answers.
+    pub response: ObjectResponse,
+}
+
+#[derive(Clone, Debug)]
+enum BaseMotion {
+    Walk(VecDeque<Point2<f64>>),
+    Turn(f64),
+}
+
+#[derive(Clone, Debug)]
+enum HandMotion {
+    Guarded {
+        motion: GuardedMove,
+        travelled: f64,
+        approach_done: bool,
+    },
+    Retract,
+}
+
+/// The scripted fake robot.
+#[derive(Clone, Debug)]
+pub struct FakeRobot {
+    now: f64,
+    pose: Isometry2<f64>,
+    walk_speed: f64,
+    turn_rate: f64,
+    base_motion: Option<BaseMotion>,
+    base_done: Option<WalkOutcome>,
+    walked: f64,
+    block_after: Option<f64>,
+    head: (f64, f64),
+    head_target: Option<(f64, f64)>,
+    head_rate: f64,
+    clouds: VecDeque<ColourCloud>,
+    hand_pos: Point3<f64>,
+    hand_rest: Point3<f64>,
+    hand_motion: Option<HandMotion>,
+    hand_done: Option<HandOutcome>,
+    object: Option<ScriptedObject>,
+    force: Vector3<f64>,
+    bias: Vector3<f64>,
+    tare: Vector3<f64>,
+    samples: Vec<Stamped<Wrench>>,
+    failures: BTreeMap<&'static str, RobotError>,
+    calls: Vec<String>,
+}
+
+impl FakeRobot {
+    /// A fake robot standing at `pose`, walking at 0.15 m/s, turning at 0.5 rad/s.
+    pub fn new(pose: Isometry2<f64>) -> Self {
+        let hand_rest = Point3::new(0.2, -0.3, 0.8);
+        Self {
+            now: 0.0,
+            pose,
+            walk_speed: 0.15,
+            turn_rate: 0.5,
+            base_motion: None,
+            base_done: None,
+            walked: 0.0,
+            block_after: None,
+            head: (0.0, 0.0),
+            head_target: None,
+            head_rate: 1.0,
+            clouds: VecDeque::new(),
+            hand_pos: hand_rest,
+            hand_rest,
+            hand_motion: None,
+            hand_done: None,
+            object: None,
+            force: Vector3::zeros(),
+            bias: Vector3::new(0.8, -0.4, 1.1),
+            tare: Vector3::zeros(),
+            samples: Vec::new(),
+            failures: BTreeMap::new(),
+            calls: Vec::new(),
+        }
+    }
+
+    /// Queues a cloud for the next [`RangeCamera::capture`].
+    pub fn queue_cloud(&mut self, cloud: ColourCloud) {
+        self.clouds.push_back(cloud);
+    }
+
+    /// Puts a scripted object in front of the hand for the next guarded moves (`None` removes it).
+    pub fn set_object(&mut self, object: Option<ScriptedObject>) {
+        self.object = object;
+    }
+
+    /// Makes the next walk stop, blocked, after `distance` metres.
+    pub fn block_next_walk_after(&mut self, distance: f64) {
+        self.block_after = Some(distance);
+    }
+
+    /// Makes the next call to `capability` ("base", "head", "camera", "wrist", "arm", "clock") fail.
+    pub fn fail_next(&mut self, capability: &'static str, error: RobotError) {
+        self.failures.insert(capability, error);
+    }
+
+    /// Every adapter call made so far, in order, e.g. `"start_walk 2"`.
+    pub fn calls(&self) -> &[String] {
+        &self.calls
+    }
+
+    fn call(&mut self, capability: &'static str, what: String) -> Result<(), RobotError> {
+        self.calls.push(what);
+        self.failures.remove(capability).map_or(Ok(()), Err)
+    }
+
+    fn sensor_pose(&self) -> Isometry3<f64> {
+        let yaw = self.pose.rotation.angle() + self.head.0;
+        let t = self.pose.translation.vector;
+        Isometry3::from_parts(
+            Translation3::new(t.x, t.y, 1.4),
+            UnitQuaternion::from_euler_angles(0.0, self.head.1, yaw),
+        )
+    }
+
+    fn substep(&mut self) {
+        self.now += SUBSTEP;
+        self.step_head();
+        self.step_base();
+        self.step_hand();
+        let wrench = Wrench {
+            force: self.force + self.bias - self.tare,
+            torque: Vector3::zeros(),
+        };
+        self.samples.push(Stamped {
+            stamp: self.now,
+            value: wrench,
+        });
+    }
+
+    fn step_head(&mut self) {
+        let Some((pan, tilt)) = self.head_target else {
+            return;
+        };
+        let max = self.head_rate * SUBSTEP;
+        self.head.0 += (pan - self.head.0).clamp(-max, max);
+        self.head.1 += (tilt - self.head.1).clamp(-max, max);
+        if (self.head.0 - pan).abs() < 1e-9 && (self.head.1 - tilt).abs() < 1e-9 {
+            self.head_target = None;
+        }
+    }
+
+    fn step_base(&mut self) {
+        let Some(motion) = self.base_motion.as_mut() else {
+            return;
+        };
+        match motion {
+            BaseMotion::Turn(yaw) => {
+                let yaw = *yaw;
+                if turn_towards(&mut self.pose, yaw, self.turn_rate * SUBSTEP) {
+                    self.finish_walk(WalkOutcome::Arrived);
+                }
+            }
+            BaseMotion::Walk(waypoints) => {
+                let Some(&next) = waypoints.front() else {
+                    self.finish_walk(WalkOutcome::Arrived);
+                    return;
+                };
+                let here = Point2::from(self.pose.translation.vector);
+                let to_next: Vector2<f64> = next - here;
+                let yaw = to_next.y.atan2(to_next.x);
+                if to_next.norm() > 1e-9
+                    && !turn_towards(&mut self.pose, yaw, self.turn_rate * SUBSTEP)
+                {
+                    return;
+                }
+                let stepped = (self.walk_speed * SUBSTEP).min(to_next.norm());
+                if self.block_after.is_some_and(|d| self.walked + stepped > d) {
+                    self.block_after = None;
+                    let at = self.pose;
+                    self.finish_walk(WalkOutcome::Blocked { at });
+                    return;
+                }
+                self.walked += stepped;
+                if to_next.norm() > 1e-12 {
+                    self.pose.translation.vector += to_next.normalize() * stepped;
+                }
+                if (next - Point2::from(self.pose.translation.vector)).norm() < 1e-9 {
+                    waypoints.pop_front();
+                }
+            }
+        }
+    }
+
+    fn finish_walk(&mut self, outcome: WalkOutcome) {
+        self.base_motion = None;
+        self.base_done = Some(outcome);
+    }
+
+    fn step_hand(&mut self) {
+        self.force = Vector3::zeros();
+        let Some(motion) = self.hand_motion.as_mut() else {
+            return;
+        };
+        match motion {
+            HandMotion::Retract => {
+                if move_towards(&mut self.hand_pos, self.hand_rest, 0.3 * SUBSTEP) {
+                    self.hand_motion = None;
+                    self.hand_done = Some(HandOutcome::Reached);
+                }
+            }
+            HandMotion::Guarded {
+                motion,
+                travelled,
+                approach_done,
+            } => {
+                if !*approach_done {
+                    *approach_done = move_towards(&mut self.hand_pos, motion.from, 0.3 * SUBSTEP);
+                    return;
+                }
+                let Some(dir) = motion.direction() else {
+                    self.hand_motion = None;
+                    self.hand_done = Some(HandOutcome::Reached);
+                    return;
+                };
+                let length = (motion.to - motion.from).norm();
+                let next = (*travelled + motion.speed * SUBSTEP).min(length);
+                let force = match self.object {
+                    Some(ScriptedObject {
+                        contact_at,
+                        response,
+                    }) if next > contact_at => match response {
+                        ObjectResponse::Static { stiffness } => stiffness * (next - contact_at),
+                        ObjectResponse::Sliding { force } => force,
+                    },
+                    _ => 0.0,
+                };
+                let limit = motion.force_limit;
+                let stopped = matches!(
+                    self.object,
+                    Some(ScriptedObject {
+                        response: ObjectResponse::Static { .. },
+                        ..
+                    })
+                ) && force >= limit;
+                let travel = if stopped { *travelled } else { next };
+                *travelled = travel;
+                self.hand_pos = motion.from + dir * travel;
+                self.force = -dir * force;
+                let tared = (self.force + self.bias - self.tare).norm();
+                if tared >= limit {
+                    let wrench = Stamped {
+                        stamp: self.now,
+                        value: Wrench {
+                            force: self.force + self.bias - self.tare,
+                            torque: Vector3::zeros(),
+                        },
+                    };
+                    let at = self.hand_pos;
+                    self.hand_motion = None;
+                    self.hand_done = Some(HandOutcome::ForceLimit { wrench, at });
+                } else if travel >= length {
+                    self.hand_motion = None;
+                    self.hand_done = Some(HandOutcome::Reached);
+                }
+            }
+        }
+    }
+}
+
+/// Turns `pose` towards `yaw` by at most `max` rad; true once facing it.
+fn turn_towards(pose: &mut Isometry2<f64>, yaw: f64, max: f64) -> bool {
+    let current = pose.rotation.angle();
+    let error = (yaw - current + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+        - std::f64::consts::PI;
+    let turn = error.clamp(-max, max);
+    pose.rotation = nalgebra::UnitComplex::new(current + turn);
+    (error - turn).abs() < 1e-9
+}
+
+/// Moves `p` towards `target` by at most `max` m; true once there.
+fn move_towards(p: &mut Point3<f64>, target: Point3<f64>, max: f64) -> bool {
+    let d = target - *p;
+    if d.norm() <= max {
+        *p = target;
+        true
+    } else {
+        *p += d.normalize() * max;
+        false
+    }
+}
+
+impl Clock for FakeRobot {
+    fn now(&self) -> f64 {
+        self.now
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), RobotError> {
+        self.call("clock", format!("advance {dt}"))?;
+        let steps = (dt / SUBSTEP).round().max(1.0) as u64;
+        for _ in 0..steps {
+            self.substep();
+        }
+        Ok(())
+    }
+}
+
+impl Base for FakeRobot {
+    fn base_pose(&mut self) -> Result<Stamped<Isometry2<f64>>, RobotError> {
+        self.call("base", "base_pose".into())?;
+        Ok(Stamped {
+            stamp: self.now,
+            value: self.pose,
+        })
+    }
+
+    fn start_walk(&mut self, waypoints: &[Point2<f64>]) -> Result<(), RobotError> {
+        self.call("base", format!("start_walk {}", waypoints.len()))?;
+        self.walked = 0.0;
+        self.base_done = None;
+        self.base_motion = Some(BaseMotion::Walk(waypoints.iter().copied().collect()));
+        Ok(())
+    }
+
+    fn start_turn(&mut self, yaw: f64) -> Result<(), RobotError> {
+        self.call("base", format!("start_turn {yaw:.3}"))?;
+        self.base_done = None;
+        self.base_motion = Some(BaseMotion::Turn(yaw));
+        Ok(())
+    }
+
+    fn walk_status(&mut self) -> Result<ActionStatus<WalkOutcome>, RobotError> {
+        self.call("base", "walk_status".into())?;
+        Ok(match (&self.base_motion, &self.base_done) {
+            (Some(_), _) => ActionStatus::Running,
+            (None, Some(outcome)) => ActionStatus::Done(outcome.clone()),
+            (None, None) => ActionStatus::Done(WalkOutcome::Arrived),
+        })
+    }
+
+    fn stop_walk(&mut self) -> Result<(), RobotError> {
+        self.call("base", "stop_walk".into())?;
+        if self.base_motion.take().is_some() {
+            self.base_done = Some(WalkOutcome::Stopped);
+        }
+        Ok(())
+    }
+}
+
+impl Head for FakeRobot {
+    fn head_angles(&mut self) -> Result<Stamped<(f64, f64)>, RobotError> {
+        self.call("head", "head_angles".into())?;
+        Ok(Stamped {
+            stamp: self.now,
+            value: self.head,
+        })
+    }
+
+    fn start_point_head(&mut self, pan: f64, tilt: f64) -> Result<(), RobotError> {
+        self.call("head", format!("start_point_head {pan:.3} {tilt:.3}"))?;
+        self.head_target = Some((pan, tilt));
+        Ok(())
+    }
+
+    fn head_status(&mut self) -> Result<ActionStatus<()>, RobotError> {
+        self.call("head", "head_status".into())?;
+        Ok(if self.head_target.is_some() {
+            ActionStatus::Running
+        } else {
+            ActionStatus::Done(())
+        })
+    }
+}
+
+impl RangeCamera for FakeRobot {
+    fn capture(&mut self) -> Result<ColourCloud, RobotError> {
+        self.call("camera", "capture".into())?;
+        let pose = self.sensor_pose();
+        Ok(self
+            .clouds
+            .pop_front()
+            .unwrap_or_else(|| ColourCloud::empty(CloudFrame::Sensor, pose, self.now)))
+    }
+}
+
+impl WristSensor for FakeRobot {
+    fn tare(&mut self) -> Result<(), RobotError> {
+        self.call("wrist", "tare".into())?;
+        self.tare = self.force + self.bias;
+        Ok(())
+    }
+
+    fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
+        self.call("wrist", "wrench".into())?;
+        Ok(Stamped {
+            stamp: self.now,
+            value: Wrench {
+                force: self.force + self.bias - self.tare,
+                torque: Vector3::zeros(),
+            },
+        })
+    }
+
+    fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
+        self.call("wrist", "drain_wrenches".into())?;
+        Ok(std::mem::take(&mut self.samples))
+    }
+}
+
+impl Arm for FakeRobot {
+    fn hand_position(&mut self) -> Result<Stamped<Point3<f64>>, RobotError> {
+        self.call("arm", "hand_position".into())?;
+        Ok(Stamped {
+            stamp: self.now,
+            value: self.hand_pos,
+        })
+    }
+
+    fn start_guarded_move(&mut self, motion: GuardedMove) -> Result<(), RobotError> {
+        self.call("arm", "start_guarded_move".into())?;
+        if !(motion.speed > 0.0 && motion.force_limit > 0.0) {
+            return Err(RobotError::Refused {
+                capability: "arm",
+                reason: format!(
+                    "speed {} and force limit {} must be positive",
+                    motion.speed, motion.force_limit
+                ),
+            });
+        }
+        self.hand_done = None;
+        self.hand_motion = Some(HandMotion::Guarded {
+            motion,
+            travelled: 0.0,
+            approach_done: false,
+        });
+        Ok(())
+    }
+
+    fn start_retract(&mut self) -> Result<(), RobotError> {
+        self.call("arm", "start_retract".into())?;
+        self.hand_done = None;
+        self.hand_motion = Some(HandMotion::Retract);
+        Ok(())
+    }
+
+    fn hand_status(&mut self) -> Result<ActionStatus<HandOutcome>, RobotError> {
+        self.call("arm", "hand_status".into())?;
+        Ok(match (&self.hand_motion, &self.hand_done) {
+            (Some(_), _) => ActionStatus::Running,
+            (None, Some(outcome)) => ActionStatus::Done(outcome.clone()),
+            (None, None) => ActionStatus::Done(HandOutcome::Reached),
+        })
+    }
+
+    fn stop_hand(&mut self) -> Result<(), RobotError> {
+        self.call("arm", "stop_hand".into())?;
+        if self.hand_motion.take().is_some() {
+            self.hand_done = Some(HandOutcome::Stopped);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run_until_hand_done(robot: &mut FakeRobot) -> HandOutcome {
+        for _ in 0..100_000 {
+            if let Ok(ActionStatus::Done(outcome)) = robot.hand_status() {
+                return outcome;
+            }
+            robot.advance(0.01).expect("advance");
+        }
+        panic!("hand never finished");
+    }
+
+    fn push(limit: f64) -> GuardedMove {
+        GuardedMove {
+            from: Point3::new(0.3, 0.0, 0.7),
+            to: Point3::new(0.7, 0.0, 0.7),
+            speed: 0.1,
+            force_limit: limit,
+        }
+    }
+
+    #[test]
+    fn a_static_object_stops_the_guarded_move_at_the_limit() {
+        // Invariant: against a stiff object the tared force norm stops the hand at the limit, within 10 %.
+        let mut robot = FakeRobot::new(Isometry2::identity());
+        robot.tare().expect("tare");
+        robot.set_object(Some(ScriptedObject {
+            contact_at: 0.1,
+            response: ObjectResponse::Static {
+                stiffness: 20_000.0,
+            },
+        }));
+        robot.start_guarded_move(push(20.0)).expect("start");
+        match run_until_hand_done(&mut robot) {
+            HandOutcome::ForceLimit { wrench, at } => {
+                let f = wrench.value.force_norm();
+                assert!((20.0..=22.0).contains(&f), "stopped at {f} N");
+                assert!((at.x - 0.4).abs() < 0.005, "hand stopped at {at}");
+            }
+            other => panic!("expected ForceLimit, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_sliding_object_lets_the_hand_reach_the_end_below_the_limit() {
+        // Invariant: a sliding object under the limit never stops the move; the trace shows its friction force.
+        let mut robot = FakeRobot::new(Isometry2::identity());
+        robot.tare().expect("tare");
+        robot.set_object(Some(ScriptedObject {
+            contact_at: 0.1,
+            response: ObjectResponse::Sliding { force: 12.0 },
+        }));
+        robot.start_guarded_move(push(20.0)).expect("start");
+        assert_eq!(run_until_hand_done(&mut robot), HandOutcome::Reached);
+        let peak = robot
+            .drain_wrenches()
+            .expect("drain")
+            .iter()
+            .map(|s| s.value.force_norm())
+            .fold(0.0, f64::max);
+        assert!((peak - 12.0).abs() < 1e-9, "peak {peak}");
+    }
+
+    #[test]
+    fn a_scripted_block_stops_the_walk_at_that_distance() {
+        // Invariant: a walk blocked after d metres reports Blocked at d along the path.
+        let mut robot = FakeRobot::new(Isometry2::identity());
+        robot.block_next_walk_after(0.5);
+        robot.start_walk(&[Point2::new(2.0, 0.0)]).expect("walk");
+        let outcome = loop {
+            if let ActionStatus::Done(o) = robot.walk_status().expect("status") {
+                break o;
+            }
+            robot.advance(0.1).expect("advance");
+        };
+        match outcome {
+            WalkOutcome::Blocked { at } => assert!((at.translation.x - 0.5).abs() < 0.01),
+            other => panic!("expected Blocked, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn an_injected_failure_fails_exactly_the_next_call() {
+        // Invariant: fail_next makes one call of that capability fail, then the robot works again.
+        let mut robot = FakeRobot::new(Isometry2::identity());
+        let err = RobotError::Timeout {
+            capability: "camera",
+            seconds: 1.0,
+        };
+        robot.fail_next("camera", err.clone());
+        assert_eq!(robot.capture(), Err(err));
+        assert!(robot.capture().is_ok());
+    }
+}
