@@ -14,6 +14,7 @@ pub mod event;
 pub mod explain;
 pub mod machine;
 pub mod push_test;
+pub mod record;
 pub mod robot;
 pub mod state;
 

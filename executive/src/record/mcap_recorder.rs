@@ -1,0 +1,362 @@
+//! The MCAP recorder: every observation as a Foxglove message, stamped with robot time.
+//!
+//! Written with the `mcap` crate and the protobuf message types of the `foxglove` crate. Nothing in a
+//! recording comes from the wall clock, so the same scenario and seed give the same file byte for
+//! byte. The writer finishes the file (summary, footer) when the recorder is finished or dropped, so a
+//! failed or cancelled run still leaves a complete file; an I/O error stops recording, is kept, and
+//! never stops the run.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufWriter, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use foxglove::Encode;
+use foxglove::messages::Log;
+use foxglove::messages::log::Level;
+use mcap::records::{MessageHeader, Metadata};
+use nalgebra::{Isometry3, Point2, Translation3, UnitQuaternion, Vector2};
+use nudge_perception::{ColourCloud, ObjectId, Prism};
+
+use super::messages;
+use super::observer::{GridView, LogLevel, Observer, RobotFrames};
+use crate::machine::Edge;
+use crate::push_test::{PushEvidence, PushIntent, Verdict};
+use crate::robot::Wrench;
+use crate::state::State;
+
+/// Topic names of a recording.
+pub mod topics {
+    /// Colour clouds (`foxglove.PointCloud`).
+    pub const CLOUD: &str = "/camera/cloud";
+    /// The obstacle-type grid (`foxglove.Grid`, uint8 field `class`).
+    pub const GRID: &str = "/grid";
+    /// Prisms (`foxglove.SceneUpdate`).
+    pub const PRISMS: &str = "/perception/prisms";
+    /// The planner's tree (`foxglove.SceneUpdate`).
+    pub const TREE: &str = "/planner/tree";
+    /// The planned path (`foxglove.SceneUpdate`).
+    pub const PATH: &str = "/planner/path";
+    /// Push direction and force arrows (`foxglove.SceneUpdate`).
+    pub const PUSH: &str = "/push";
+    /// Robot, head, camera and hand frames (`foxglove.FrameTransform`).
+    pub const TF: &str = "/tf";
+    /// Executive transitions, verdicts and notes (`foxglove.Log`).
+    pub const LOG: &str = "/executive/log";
+    /// Wrist wrench (JSON: force and torque vectors, wrist frame).
+    pub const WRENCH: &str = "/wrist/wrench";
+}
+
+/// Why recording failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// The file could not be created.
+    #[error("cannot create recording {path}: {source}")]
+    Create {
+        /// The path.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The MCAP writer failed.
+    #[error("recording failed: {0}")]
+    Mcap(#[from] mcap::McapError),
+    /// A message could not be encoded.
+    #[error("cannot encode a {topic} message: {reason}")]
+    Encode {
+        /// The topic.
+        topic: &'static str,
+        /// The encoder's error.
+        reason: String,
+    },
+}
+
+/// What a recording says about its run (written as MCAP metadata and an attachment).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunInfo {
+    /// Scenario name.
+    pub scenario: String,
+    /// Seed of the run.
+    pub seed: u64,
+    /// nudge version.
+    pub version: String,
+    /// Candidate policy.
+    pub policy: String,
+    /// The scenario file's name and text, attached to the recording.
+    pub scenario_file: Option<(String, String)>,
+}
+
+/// An [`Observer`] that writes an MCAP file.
+pub struct McapRecorder<W: Write + Seek = BufWriter<File>> {
+    writer: Option<mcap::Writer<W>>,
+    channels: BTreeMap<&'static str, u16>,
+    sequence: u32,
+    error: Option<RecordError>,
+}
+
+impl McapRecorder<BufWriter<File>> {
+    /// Creates `path` and starts recording into it.
+    pub fn create(path: &Path, info: &RunInfo) -> Result<Self, RecordError> {
+        let file = File::create(path).map_err(|source| RecordError::Create {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::new(BufWriter::new(file), info)
+    }
+}
+
+impl<W: Write + Seek> McapRecorder<W> {
+    /// Starts recording into `sink`, writing the run's metadata and the scenario attachment first.
+    pub fn new(sink: W, info: &RunInfo) -> Result<Self, RecordError> {
+        let mut writer = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Zstd))
+            .profile("")
+            .create(sink)?;
+        let mut metadata = BTreeMap::new();
+        metadata.insert("scenario".to_string(), info.scenario.clone());
+        metadata.insert("seed".to_string(), info.seed.to_string());
+        metadata.insert("version".to_string(), info.version.clone());
+        metadata.insert("policy".to_string(), info.policy.clone());
+        writer.write_metadata(&Metadata {
+            name: "nudge-run".into(),
+            metadata,
+        })?;
+        if let Some((name, text)) = &info.scenario_file {
+            writer.attach(&mcap::Attachment {
+                log_time: 0,
+                create_time: 0,
+                name: name.clone(),
+                media_type: "application/toml".into(),
+                data: std::borrow::Cow::Borrowed(text.as_bytes()),
+            })?;
+        }
+        Ok(Self {
+            writer: Some(writer),
+            channels: BTreeMap::new(),
+            sequence: 0,
+            error: None,
+        })
+    }
+
+    /// The first error met while recording, if any (recording stopped there).
+    pub fn error(&self) -> Option<&RecordError> {
+        self.error.as_ref()
+    }
+
+    /// Writes the summary and footer and returns the sink.
+    pub fn finish(mut self) -> Result<W, RecordError> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        let mut writer = self.writer.take().ok_or(RecordError::Encode {
+            topic: "",
+            reason: "recorder already finished".into(),
+        })?;
+        writer.finish()?;
+        Ok(writer.into_inner())
+    }
+
+    /// Writes a Foxglove message, registering its schema and channel on first use.
+    fn write<M: Encode>(&mut self, topic: &'static str, stamp: f64, message: &M) {
+        let mut data = Vec::with_capacity(message.encoded_len().unwrap_or(256));
+        if let Err(e) = message.encode(&mut data) {
+            self.fail(RecordError::Encode {
+                topic,
+                reason: e.to_string(),
+            });
+            return;
+        }
+        let (name, encoding, schema) = M::get_schema()
+            .map(|s| (s.name, s.encoding, s.data.into_owned()))
+            .unwrap_or_default();
+        self.write_raw(
+            topic,
+            stamp,
+            &name,
+            &encoding,
+            &schema,
+            &M::get_message_encoding(),
+            &data,
+        );
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn write_raw(
+        &mut self,
+        topic: &'static str,
+        stamp: f64,
+        schema_name: &str,
+        schema_encoding: &str,
+        schema: &[u8],
+        message_encoding: &str,
+        data: &[u8],
+    ) {
+        let Some(writer) = self.writer.as_mut() else {
+            return;
+        };
+        let result = (|| {
+            let channel_id = match self.channels.get(topic) {
+                Some(&id) => id,
+                None => {
+                    let schema_id = writer.add_schema(schema_name, schema_encoding, schema)?;
+                    let id =
+                        writer.add_channel(schema_id, topic, message_encoding, &BTreeMap::new())?;
+                    self.channels.insert(topic, id);
+                    id
+                }
+            };
+            let time = messages::nanos(stamp);
+            writer.write_to_known_channel(
+                &MessageHeader {
+                    channel_id,
+                    sequence: self.sequence,
+                    log_time: time,
+                    publish_time: time,
+                },
+                data,
+            )
+        })();
+        self.sequence = self.sequence.wrapping_add(1);
+        if let Err(e) = result {
+            self.fail(e.into());
+        }
+    }
+
+    /// Keeps the first error and stops recording, finishing what was written so far.
+    fn fail(&mut self, error: RecordError) {
+        if self.error.is_none() {
+            self.error = Some(error);
+        }
+        if let Some(mut writer) = self.writer.take() {
+            let _ = writer.finish();
+        }
+    }
+
+    fn log(&mut self, stamp: f64, level: Level, name: &str, text: String) {
+        let message = Log {
+            timestamp: Some(messages::timestamp(stamp)),
+            level: level as i32,
+            message: text,
+            name: name.into(),
+            file: String::new(),
+            line: 0,
+        };
+        self.write(topics::LOG, stamp, &message);
+    }
+}
+
+const WRENCH_SCHEMA: &str = r#"{"type":"object","properties":{"force":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"torque":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"force_norm":{"type":"number"}}}"#;
+
+impl<W: Write + Seek> Observer for McapRecorder<W> {
+    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {
+        let text = format!("{} -> {} ({edge:?})", from.name(), to.name());
+        self.log(stamp, Level::Info, "executive", text);
+    }
+
+    fn verdict(
+        &mut self,
+        stamp: f64,
+        object: ObjectId,
+        verdict: &Verdict,
+        evidence: &PushEvidence,
+    ) {
+        let icp = evidence.icp.map_or_else(
+            || "n/a".to_string(),
+            |i| format!("{:.1} mm", i.displacement * 1e3),
+        );
+        let text = format!(
+            "{object}: {verdict:?} (peak {:.1} N of {:.0} N limit, ICP {icp}, hand {:.1} mm after contact)",
+            evidence.peak_force,
+            evidence.force_limit,
+            evidence.hand_travel * 1e3
+        );
+        self.log(stamp, Level::Info, "verdict", text);
+    }
+
+    fn cloud(&mut self, cloud: &ColourCloud) {
+        self.write(topics::CLOUD, cloud.stamp(), &messages::point_cloud(cloud));
+    }
+
+    fn prisms(&mut self, stamp: f64, prisms: &[Prism]) {
+        self.write(topics::PRISMS, stamp, &messages::prisms(stamp, prisms));
+    }
+
+    fn grid(&mut self, stamp: f64, grid: &GridView<'_>) {
+        self.write(topics::GRID, stamp, &messages::grid(stamp, grid));
+    }
+
+    fn tree(&mut self, stamp: f64, edges: &[[Point2<f64>; 2]]) {
+        let points: Vec<Point2<f64>> = edges.iter().flatten().copied().collect();
+        let update = messages::lines(stamp, "tree", &points, true, [0.5, 0.5, 0.5, 0.6]);
+        self.write(topics::TREE, stamp, &update);
+    }
+
+    fn path(&mut self, stamp: f64, waypoints: &[Point2<f64>]) {
+        let update = messages::lines(stamp, "path", waypoints, false, [0.1, 0.8, 0.2, 1.0]);
+        self.write(topics::PATH, stamp, &update);
+    }
+
+    fn push(&mut self, stamp: f64, intent: &PushIntent, force: Option<Vector2<f64>>) {
+        self.write(topics::PUSH, stamp, &messages::push(stamp, intent, force));
+    }
+
+    fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
+        let b = frames.base;
+        let base = Isometry3::from_parts(
+            Translation3::new(b.translation.x, b.translation.y, 0.0),
+            UnitQuaternion::from_euler_angles(0.0, 0.0, b.rotation.angle()),
+        );
+        let head = Isometry3::from_parts(
+            Translation3::identity(),
+            UnitQuaternion::from_euler_angles(0.0, frames.head.1, frames.head.0),
+        );
+        let hand = Isometry3::from_parts(
+            Translation3::from(frames.hand.coords),
+            UnitQuaternion::identity(),
+        );
+        for (parent, child, iso) in [
+            ("map", "base_link", base),
+            ("base_link", "head", head),
+            ("map", "camera", frames.camera),
+            ("base_link", "hand", hand),
+        ] {
+            self.write(
+                topics::TF,
+                stamp,
+                &messages::frame(stamp, parent, child, &iso),
+            );
+        }
+    }
+
+    fn wrench(&mut self, stamp: f64, wrench: &Wrench) {
+        let (f, t) = (wrench.force, wrench.torque);
+        let json = format!(
+            r#"{{"force":{{"x":{},"y":{},"z":{}}},"torque":{{"x":{},"y":{},"z":{}}},"force_norm":{}}}"#,
+            f.x,
+            f.y,
+            f.z,
+            t.x,
+            t.y,
+            t.z,
+            f.norm()
+        );
+        self.write_raw(
+            topics::WRENCH,
+            stamp,
+            "nudge.Wrench",
+            "jsonschema",
+            WRENCH_SCHEMA.as_bytes(),
+            "json",
+            json.as_bytes(),
+        );
+    }
+
+    fn note(&mut self, stamp: f64, level: LogLevel, text: &str) {
+        let level = match level {
+            LogLevel::Info => Level::Info,
+            LogLevel::Warning => Level::Warning,
+            LogLevel::Error => Level::Error,
+        };
+        self.log(stamp, level, "note", text.to_string());
+    }
+}

@@ -1,0 +1,276 @@
+//! Builders of Foxglove messages from nudge's types. Pure functions: no I/O.
+
+use foxglove::bytes::Bytes;
+use foxglove::messages::{
+    ArrowPrimitive, Color, FrameTransform, Grid, LinePrimitive, PackedElementField,
+    Point3 as FxPoint3, PointCloud, Pose, Quaternion, SceneEntity, SceneUpdate, Timestamp,
+    TriangleListPrimitive, Vector2 as FxVector2, Vector3 as FxVector3, line_primitive,
+    packed_element_field::NumericType,
+};
+use nalgebra::{Isometry3, Point2, UnitQuaternion, Vector3};
+use nudge_perception::{ColourCloud, Prism};
+
+use super::observer::GridView;
+use crate::push_test::PushIntent;
+
+/// Robot-clock seconds as a Foxglove timestamp (the run starts at 0 s).
+pub fn timestamp(stamp: f64) -> Timestamp {
+    let ns = nanos(stamp);
+    Timestamp::new((ns / 1_000_000_000) as u32, (ns % 1_000_000_000) as u32)
+}
+
+/// Robot-clock seconds as MCAP nanoseconds; negative and non-finite stamps clamp to 0.
+pub fn nanos(stamp: f64) -> u64 {
+    if stamp.is_finite() && stamp > 0.0 {
+        (stamp * 1e9).round() as u64
+    } else {
+        0
+    }
+}
+
+fn pose(iso: &Isometry3<f64>) -> Pose {
+    let t = iso.translation.vector;
+    let q = iso.rotation;
+    Pose {
+        position: Some(FxVector3 {
+            x: t.x,
+            y: t.y,
+            z: t.z,
+        }),
+        orientation: Some(quaternion(&q)),
+    }
+}
+
+fn quaternion(q: &UnitQuaternion<f64>) -> Quaternion {
+    Quaternion {
+        x: q.i,
+        y: q.j,
+        z: q.k,
+        w: q.w,
+    }
+}
+
+fn point(x: f64, y: f64, z: f64) -> FxPoint3 {
+    FxPoint3 { x, y, z }
+}
+
+fn colour(r: f64, g: f64, b: f64, a: f64) -> Color {
+    Color { r, g, b, a }
+}
+
+fn field(name: &str, offset: u32, kind: NumericType) -> PackedElementField {
+    PackedElementField {
+        name: name.to_string(),
+        offset,
+        r#type: kind as i32,
+    }
+}
+
+/// A colour cloud as a `foxglove.PointCloud`: x, y, z as float32 and red, green, blue as uint8,
+/// expressed in the sensor frame and placed in `map` by the sensor pose (valid points only).
+pub fn point_cloud(cloud: &ColourCloud) -> PointCloud {
+    const STRIDE: usize = 16;
+    let mut data = Vec::with_capacity(cloud.len() * STRIDE);
+    for (_, p, c) in cloud.iter_valid() {
+        data.extend_from_slice(&p.x.to_le_bytes());
+        data.extend_from_slice(&p.y.to_le_bytes());
+        data.extend_from_slice(&p.z.to_le_bytes());
+        data.extend_from_slice(&[c[0], c[1], c[2], 255]);
+    }
+    let origin = match cloud.frame() {
+        nudge_perception::CloudFrame::Sensor => *cloud.sensor_pose(),
+        nudge_perception::CloudFrame::Map => Isometry3::identity(),
+    };
+    PointCloud {
+        timestamp: Some(timestamp(cloud.stamp())),
+        frame_id: "map".into(),
+        pose: Some(pose(&origin)),
+        point_stride: STRIDE as u32,
+        fields: vec![
+            field("x", 0, NumericType::Float32),
+            field("y", 4, NumericType::Float32),
+            field("z", 8, NumericType::Float32),
+            field("red", 12, NumericType::Uint8),
+            field("green", 13, NumericType::Uint8),
+            field("blue", 14, NumericType::Uint8),
+            field("alpha", 15, NumericType::Uint8),
+        ],
+        data: Bytes::from(data),
+    }
+}
+
+/// The obstacle-type grid as a `foxglove.Grid` with one uint8 field, `class`.
+pub fn grid(stamp: f64, view: &GridView<'_>) -> Grid {
+    let origin = Isometry3::translation(view.origin.x, view.origin.y, 0.0);
+    Grid {
+        timestamp: Some(timestamp(stamp)),
+        frame_id: "map".into(),
+        pose: Some(pose(&origin)),
+        column_count: view.width as u32,
+        cell_size: Some(FxVector2 {
+            x: view.resolution,
+            y: view.resolution,
+        }),
+        row_stride: view.width as u32,
+        cell_stride: 1,
+        fields: vec![field("class", 0, NumericType::Uint8)],
+        data: Bytes::copy_from_slice(view.classes),
+    }
+}
+
+/// One entity holding every prism: side walls and top as triangles, outlines as lines.
+pub fn prisms(stamp: f64, prisms: &[Prism]) -> SceneUpdate {
+    let mut entities = Vec::with_capacity(prisms.len());
+    for prism in prisms {
+        let n = prism.footprint.len();
+        if n < 3 {
+            continue;
+        }
+        let (lo, hi) = (prism.z_min, prism.z_max);
+        let mut points = Vec::new();
+        for i in 0..n {
+            let (a, b) = (prism.footprint[i], prism.footprint[(i + 1) % n]);
+            points.extend([
+                point(a.x, a.y, lo),
+                point(b.x, b.y, lo),
+                point(b.x, b.y, hi),
+                point(a.x, a.y, lo),
+                point(b.x, b.y, hi),
+                point(a.x, a.y, hi),
+            ]);
+        }
+        for i in 1..n - 1 {
+            let (a, b, c) = (
+                prism.footprint[0],
+                prism.footprint[i],
+                prism.footprint[i + 1],
+            );
+            points.extend([
+                point(a.x, a.y, hi),
+                point(b.x, b.y, hi),
+                point(c.x, c.y, hi),
+            ]);
+        }
+        let outline: Vec<FxPoint3> = prism
+            .footprint
+            .iter()
+            .map(|p| point(p.x, p.y, hi))
+            .collect();
+        entities.push(SceneEntity {
+            timestamp: Some(timestamp(stamp)),
+            frame_id: "map".into(),
+            id: format!("prism/{}", prism.id.0),
+            triangles: vec![TriangleListPrimitive {
+                pose: Some(pose(&Isometry3::identity())),
+                points,
+                color: Some(colour(0.9, 0.6, 0.1, 0.5)),
+                ..Default::default()
+            }],
+            lines: vec![LinePrimitive {
+                r#type: line_primitive::Type::LineLoop as i32,
+                pose: Some(pose(&Isometry3::identity())),
+                thickness: 0.01,
+                points: outline,
+                color: Some(colour(0.2, 0.1, 0.0, 1.0)),
+                ..Default::default()
+            }],
+            ..Default::default()
+        });
+    }
+    SceneUpdate {
+        deletions: vec![],
+        entities,
+    }
+}
+
+/// A polyline on the floor as a scene entity (the path, or the planner's tree as a line list).
+pub fn lines(
+    stamp: f64,
+    id: &str,
+    points: &[Point2<f64>],
+    list: bool,
+    rgba: [f64; 4],
+) -> SceneUpdate {
+    let kind = if list {
+        line_primitive::Type::LineList
+    } else {
+        line_primitive::Type::LineStrip
+    };
+    SceneUpdate {
+        deletions: vec![],
+        entities: vec![SceneEntity {
+            timestamp: Some(timestamp(stamp)),
+            frame_id: "map".into(),
+            id: id.to_string(),
+            lines: vec![LinePrimitive {
+                r#type: kind as i32,
+                pose: Some(pose(&Isometry3::identity())),
+                thickness: if list { 0.005 } else { 0.03 },
+                points: points.iter().map(|p| point(p.x, p.y, 0.02)).collect(),
+                color: Some(colour(rgba[0], rgba[1], rgba[2], rgba[3])),
+                ..Default::default()
+            }],
+            ..Default::default()
+        }],
+    }
+}
+
+/// The push direction at the hand height, and the measured force arrow when there is one.
+pub fn push(stamp: f64, intent: &PushIntent, force: Option<nalgebra::Vector2<f64>>) -> SceneUpdate {
+    let start = intent.stand.translation.vector;
+    let arrow = |dir: Vector3<f64>, length: f64, rgba: Color| {
+        let rot = UnitQuaternion::rotation_between(&Vector3::x(), &dir)
+            .unwrap_or_else(UnitQuaternion::identity);
+        ArrowPrimitive {
+            pose: Some(pose(&Isometry3::from_parts(
+                nalgebra::Translation3::new(start.x, start.y, intent.hand_height),
+                rot,
+            ))),
+            shaft_length: length,
+            shaft_diameter: 0.02,
+            head_length: 0.08,
+            head_diameter: 0.06,
+            color: Some(rgba),
+        }
+    };
+    let d = intent.direction.into_inner();
+    let mut arrows = vec![arrow(
+        Vector3::new(d.x, d.y, 0.0),
+        intent.distance,
+        colour(0.1, 0.4, 1.0, 1.0),
+    )];
+    if let Some(f) = force.filter(|f| f.norm() > 1e-6) {
+        // 1 N draws as 2 cm.
+        arrows.push(arrow(
+            Vector3::new(f.x, f.y, 0.0),
+            0.02 * f.norm(),
+            colour(1.0, 0.1, 0.1, 1.0),
+        ));
+    }
+    SceneUpdate {
+        deletions: vec![],
+        entities: vec![SceneEntity {
+            timestamp: Some(timestamp(stamp)),
+            frame_id: "map".into(),
+            id: format!("push/{}", intent.target.0),
+            arrows,
+            ..Default::default()
+        }],
+    }
+}
+
+/// A parent → child transform.
+pub fn frame(stamp: f64, parent: &str, child: &str, iso: &Isometry3<f64>) -> FrameTransform {
+    let t = iso.translation.vector;
+    FrameTransform {
+        timestamp: Some(timestamp(stamp)),
+        parent_frame_id: parent.into(),
+        child_frame_id: child.into(),
+        translation: Some(FxVector3 {
+            x: t.x,
+            y: t.y,
+            z: t.z,
+        }),
+        rotation: Some(quaternion(&iso.rotation)),
+    }
+}

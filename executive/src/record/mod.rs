@@ -1,0 +1,8 @@
+//! Watching a run: the [`Observer`] trait the runner reports to, and the MCAP recorder behind it.
+
+mod mcap_recorder;
+mod messages;
+mod observer;
+
+pub use mcap_recorder::{McapRecorder, RecordError, RunInfo, topics};
+pub use observer::{GridView, LogLevel, NullObserver, Observer, RobotFrames};
