@@ -32,9 +32,23 @@ use crate::icp::result::IcpResult;
 #[derive(Clone, Debug, PartialEq)]
 pub struct IcpConfig {
     /// Greatest correspondence distance of each stage (m), coarse to fine. Default
-    /// [0.20, 0.10, 0.05, 0.025, 0.012]: the first stage tolerates an initial guess ~15 cm off, the last
-    /// keeps only points within a few noise widths of the target surface.
+    /// [0.25, 0.15, 0.08, 0.04, 0.02, 0.01]: the first stage tolerates an initial guess ~20 cm off, the
+    /// last keeps only points within a few noise widths of the target surface.
     pub max_correspondence: Vec<f64>,
+    /// Stages whose distance bound is above this (m) solve only the planar motion (x, y, yaw) and use
+    /// geometry only: far from alignment the colour gradients (local by nature) add noise, and a push on
+    /// the floor is planar, so the coarse stages cannot tumble the object into a wrong basin. Finer
+    /// stages solve all six degrees of freedom with colour. Default 0.05.
+    pub planar_above: f64,
+    /// Directions of the normal equations whose eigenvalue is below this fraction of the largest are
+    /// not updated (degeneracy-aware solve, Zhang et al. 2016): what the data cannot see (a slide along
+    /// a plane without colour) stays where the guess put it instead of drifting on noise. Default 1e-3.
+    pub degeneracy_ratio: f64,
+    /// In a coarse (planar) stage, when the smaller eigenvalue of the geometric normal equations'
+    /// floor-plane translation block is below this fraction of the larger, geometry cannot see one
+    /// horizontal direction (a flat face) and the photometric term is switched on for that stage.
+    /// Default 0.05.
+    pub flat_geometry_ratio: f64,
     /// Most Gauss–Newton iterations per stage. Default 15.
     pub max_iterations_per_stage: usize,
     /// Weight λ of the geometric term (the photometric one gets 1 − λ). Default 0.968 (Park et al.'s
@@ -63,7 +77,10 @@ pub struct IcpConfig {
 impl Default for IcpConfig {
     fn default() -> Self {
         Self {
-            max_correspondence: vec![0.20, 0.10, 0.05, 0.025, 0.012],
+            max_correspondence: vec![0.25, 0.15, 0.08, 0.04, 0.02, 0.01],
+            planar_above: 0.05,
+            degeneracy_ratio: 1e-3,
+            flat_geometry_ratio: 0.05,
             max_iterations_per_stage: 15,
             lambda_geometric: 0.968,
             photometric: true,
@@ -157,8 +174,19 @@ pub fn colour_icp(
     let mut converged = false;
     for (stage, &max_dist) in config.max_correspondence.iter().enumerate() {
         converged = false;
+        let planar = max_dist > config.planar_above;
+        let dofs: &[usize] = if planar {
+            &[2, 3, 4]
+        } else {
+            &[0, 1, 2, 3, 4, 5]
+        };
         for _ in 0..config.max_iterations_per_stage {
-            let system = linearise(&src, &src_int, &target, &motion, max_dist, config);
+            let mut system = linearise(&src, &src_int, &target, &motion, max_dist, !planar, config);
+            if planar && config.photometric && planar_geometry_is_degenerate(&system.jtj, config) {
+                // Geometry cannot hold the floor-plane translation (a flat face): colour must drive
+                // the coarse stages too, or the coarse alignment drifts on noise and window edges.
+                system = linearise(&src, &src_int, &target, &motion, max_dist, true, config);
+            }
             if system.count < config.min_correspondences {
                 if stage == 0 && iterations == 0 {
                     return Err(PerceptionError::TooFewCorrespondences {
@@ -169,7 +197,7 @@ pub fn colour_icp(
                 break;
             }
             iterations += 1;
-            let Some(step) = solve(&system.jtj, &system.jtr) else {
+            let Some(step) = solve(&system.jtj, &system.jtr, dofs, config.degeneracy_ratio) else {
                 break;
             };
             let rotation = UnitQuaternion::from_scaled_axis(step.fixed_rows::<3>(0).into_owned());
@@ -305,10 +333,11 @@ fn linearise(
     target: &Target,
     motion: &Isometry3<f64>,
     max_dist: f64,
+    with_colour: bool,
     config: &IcpConfig,
 ) -> System {
     let max_sq = (max_dist * max_dist) as f32;
-    let (lg, lp) = if config.photometric {
+    let (lg, lp) = if config.photometric && with_colour {
         (config.lambda_geometric, 1.0 - config.lambda_geometric)
     } else {
         (1.0, 0.0)
@@ -379,17 +408,48 @@ fn linearise(
     )
 }
 
+/// True when the geometric system barely constrains one horizontal translation direction.
+fn planar_geometry_is_degenerate(jtj: &Matrix6<f64>, config: &IcpConfig) -> bool {
+    let block = nalgebra::Matrix2::new(jtj[(3, 3)], jtj[(3, 4)], jtj[(4, 3)], jtj[(4, 4)]);
+    let eig = block.symmetric_eigenvalues();
+    let (lo, hi) = (eig.min(), eig.max());
+    hi > 0.0 && lo < config.flat_geometry_ratio * hi
+}
+
 fn huber_weight(r: f64, delta: f64) -> f64 {
     let a = r.abs();
     if a <= delta { 1.0 } else { delta / a }
 }
 
-/// Gauss–Newton step `−(JᵀJ + μI)⁻¹ Jᵀr` with a tiny damping μ so that directions the data cannot see
-/// (a slide along a plane, without colour) get no update instead of an arbitrary one.
-fn solve(jtj: &Matrix6<f64>, jtr: &Vector6<f64>) -> Option<Vector6<f64>> {
-    let mu = 1e-9 * jtj.trace().max(1e-12);
-    let damped = jtj + Matrix6::identity() * mu;
-    let step = damped.cholesky()?.solve(&(-jtr));
+/// Gauss–Newton step `−(JᵀJ)⁻¹ Jᵀr` restricted to the degrees of freedom `dofs` (indices into
+/// (ω_x, ω_y, ω_z, t_x, t_y, t_z)), inverting only the eigen-directions whose eigenvalue is at least
+/// `ratio` times the largest, so that directions the data cannot see get no update instead of an
+/// arbitrary one driven by noise.
+fn solve(
+    jtj: &Matrix6<f64>,
+    jtr: &Vector6<f64>,
+    dofs: &[usize],
+    ratio: f64,
+) -> Option<Vector6<f64>> {
+    let n = dofs.len();
+    let a = nalgebra::DMatrix::from_fn(n, n, |i, j| jtj[(dofs[i], dofs[j])]);
+    let b = nalgebra::DVector::from_fn(n, |i, _| jtr[dofs[i]]);
+    let eig = a.symmetric_eigen();
+    let largest = eig.eigenvalues.iter().fold(0.0f64, |m, v| m.max(*v));
+    if !(largest.is_finite() && largest > 0.0) {
+        return None;
+    }
+    let mut x = nalgebra::DVector::zeros(n);
+    for (k, &lambda) in eig.eigenvalues.iter().enumerate() {
+        if lambda > ratio * largest {
+            let v = eig.eigenvectors.column(k);
+            x -= v * (v.dot(&b) / lambda);
+        }
+    }
+    let mut step = Vector6::zeros();
+    for (i, &d) in dofs.iter().enumerate() {
+        step[d] = x[i];
+    }
     step.iter().all(|v| v.is_finite()).then_some(step)
 }
 

@@ -347,3 +347,60 @@ pub fn look_at(eye: Point3<f64>, target: Point3<f64>) -> Isometry3<f64> {
         UnitQuaternion::from_rotation_matrix(&rot),
     )
 }
+
+/// Like [`object_points`], with the sensor pixels in `cols × rows` hidden (an arm in front of it).
+pub fn object_points_occluded(
+    object: &SynthObject,
+    sensor_pose: &Isometry3<f64>,
+    seed: u64,
+    cols: std::ops::Range<usize>,
+    rows: std::ops::Range<usize>,
+) -> ColourCloud {
+    let scene = Scene {
+        objects: vec![object.clone()],
+        floor: None,
+    };
+    let c = render(&scene, &Sensor::sr4000(), sensor_pose, seed, 0.0);
+    let (w, h) = (c.width(), c.height());
+    let mut x = c.xs().to_vec();
+    for r in rows.clone() {
+        for col in cols.clone() {
+            if r < h && col < w {
+                x[r * w + col] = f32::NAN;
+            }
+        }
+    }
+    ColourCloud::organised(
+        w,
+        h,
+        x,
+        c.ys().to_vec(),
+        c.zs().to_vec(),
+        c.colours().to_vec(),
+        CloudFrame::Sensor,
+        *sensor_pose,
+        0.0,
+    )
+    .expect("same shape")
+    .to_map()
+}
+
+/// A thin textured panel `width` wide (local y) × 1.6 m tall, 5 mm thick, standing at the origin.
+pub fn panel(name: &'static str, pose: Isometry3<f64>, width: f64) -> SynthObject {
+    SynthObject {
+        name,
+        pose,
+        boxes: vec![box_xyz(
+            0.0,
+            0.0,
+            0.8,
+            0.005,
+            width,
+            1.6,
+            Texture::Striped {
+                base: [128, 128, 128],
+                amplitude: 80.0,
+            },
+        )],
+    }
+}
