@@ -13,6 +13,9 @@ use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+/// A rectangle as drawn: centre, half sizes, yaw.
+type Rect = ((f64, f64), (f64, f64), f64);
+
 /// A rotated rectangle: centre, half sizes, yaw.
 fn rect_prism(id: u32, c: (f64, f64), half: (f64, f64), yaw: f64) -> Prism {
     let rot = Rotation2::new(yaw);
@@ -29,7 +32,7 @@ fn rect_prism(id: u32, c: (f64, f64), half: (f64, f64), yaw: f64) -> Prism {
     }
 }
 
-fn layout() -> impl Strategy<Value = Vec<((f64, f64), (f64, f64), f64)>> {
+fn layout() -> impl Strategy<Value = Vec<Rect>> {
     prop::collection::vec(
         (
             (0.5..9.5, 0.5..9.5),
@@ -40,7 +43,7 @@ fn layout() -> impl Strategy<Value = Vec<((f64, f64), (f64, f64), f64)>> {
     )
 }
 
-fn world(rects: &[((f64, f64), (f64, f64), f64)]) -> Validity {
+fn world(rects: &[Rect]) -> Validity {
     let prisms: Vec<Prism> = rects
         .iter()
         .enumerate()
