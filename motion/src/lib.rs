@@ -1,5 +1,30 @@
 //! nudge-motion: planning for a bounding cylinder among prisms, and planning pushes.
 //!
-//! Kept apart the way OMPL keeps them: the configuration space, the validity checker, the problem and
-//! the planners, so that a new planner is one file and a benchmark can run every planner on one problem.
+//! Kept apart the way OMPL keeps them: the configuration space ([`space`]), the validity checker
+//! ([`validity`], with the obstacles of [`obstacle`] in a [`broad_phase`] grid), the problem
+//! ([`problem`]) and the planners ([`planner`]), so that a new planner is one file and a benchmark can
+//! run every planner on one problem. On top of them: which obstacles block the way ([`blocking`]) and
+//! where and how to push one ([`push`]).
+//!
+//! The robot is a vertical cylinder, so its configuration for collision is its position in the plane;
+//! SE(2) poses appear where heading matters (standing in front of a face to push it).
 #![warn(missing_docs)]
+
+pub mod blocking;
+pub mod broad_phase;
+pub mod obstacle;
+pub mod path;
+pub mod planner;
+pub mod problem;
+pub mod push;
+pub mod space;
+pub mod validity;
+
+pub use blocking::{BlockingConfig, BlockingReport, blocking_obstacles};
+pub use obstacle::{Obstacle, ObstacleError};
+pub use path::{Path, PathError};
+pub use planner::{Budget, NoPath, Planner, rrt::Rrt, rrt_connect::RrtConnect, shortcut::Shortcut};
+pub use problem::{GoalRegion, Problem, ProblemError};
+pub use push::{PushConfig, PushError, PushPlan, plan_push};
+pub use space::{Bounds, SpaceError};
+pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};

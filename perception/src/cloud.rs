@@ -232,6 +232,67 @@ impl ColourCloud {
     }
 }
 
+impl ColourCloud {
+    /// An unorganised cloud from equally long arrays (`None` when their lengths differ).
+    pub fn from_arrays(
+        x: Vec<f32>,
+        y: Vec<f32>,
+        z: Vec<f32>,
+        rgb: Vec<Rgb>,
+        frame: CloudFrame,
+        sensor_pose: Isometry3<f64>,
+        stamp: f64,
+    ) -> Option<Self> {
+        let n = x.len();
+        if y.len() != n || z.len() != n || rgb.len() != n {
+            return None;
+        }
+        Some(Self {
+            width: n,
+            height: 1,
+            x,
+            y,
+            z,
+            rgb,
+            frame,
+            sensor_pose,
+            stamp,
+        })
+    }
+
+    /// Appends every slot of `other` (coordinates taken as they are; the caller keeps frames consistent).
+    /// The cloud becomes unorganised.
+    pub fn extend_from(&mut self, other: &ColourCloud) {
+        self.x.extend_from_slice(&other.x);
+        self.y.extend_from_slice(&other.y);
+        self.z.extend_from_slice(&other.z);
+        self.rgb.extend_from_slice(&other.rgb);
+        self.width = self.x.len();
+        self.height = 1;
+    }
+
+    /// The cloud with every point moved by `motion` (a map-frame rigid motion), invalid slots dropped.
+    pub fn transformed(&self, motion: &Isometry3<f64>) -> ColourCloud {
+        let mut out = Self::with_capacity(self.frame, self.sensor_pose, self.stamp, self.len());
+        for (_, p, c) in self.iter_valid() {
+            let q = motion * p.cast::<f64>();
+            out.push(q.cast::<f32>(), c);
+        }
+        out
+    }
+
+    /// Mean of the valid points, or `None` when there is none.
+    pub fn centroid(&self) -> Option<Point3<f64>> {
+        let mut sum = nalgebra::Vector3::zeros();
+        let mut n = 0usize;
+        for (_, p, _) in self.iter_valid() {
+            sum += p.cast::<f64>().coords;
+            n += 1;
+        }
+        (n > 0).then(|| Point3::from(sum / n as f64))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,7 +4,7 @@
 //! lowest to its highest point. It keeps the cluster's coloured points so that colour ICP can follow
 //! the object when it is pushed.
 
-use nalgebra::Point2;
+use nalgebra::{Isometry3, Point2, Point3};
 
 use crate::cloud::ColourCloud;
 
@@ -33,4 +33,207 @@ pub struct Prism {
     pub z_max: f64,
     /// The cluster's coloured points in the map frame, kept for colour ICP.
     pub points: ColourCloud,
+}
+
+impl Prism {
+    /// Footprint area (m²); zero for a degenerate footprint.
+    pub fn area(&self) -> f64 {
+        polygon_area(&self.footprint).abs()
+    }
+
+    /// Height of the prism's top above the floor (m); the same as `z_max`.
+    pub fn top(&self) -> f64 {
+        self.z_max
+    }
+
+    /// Intersection over union of the two footprints (0 when either is degenerate).
+    pub fn footprint_iou(&self, other: &Prism) -> f64 {
+        convex_iou(&self.footprint, &other.footprint)
+    }
+
+    /// True when the map-frame point lies inside the footprint (boundary included).
+    pub fn contains_xy(&self, p: &Point2<f64>) -> bool {
+        let n = self.footprint.len();
+        n >= 3
+            && (0..n).all(|i| {
+                let (a, b) = (self.footprint[i], self.footprint[(i + 1) % n]);
+                (b - a).perp(&(p - a)) >= -1e-12
+            })
+    }
+
+    /// The prism after the object moved by `motion` (a map-frame rigid motion, e.g. a colour-ICP
+    /// result): footprint and points move with it. Heights are kept, the motion being a push on the
+    /// floor; pass the moved prism to [`track_ids`] so the object keeps its id after a push.
+    pub fn transformed(&self, motion: &Isometry3<f64>) -> Prism {
+        let footprint = self
+            .footprint
+            .iter()
+            .map(|p| {
+                let q = motion * Point3::new(p.x, p.y, 0.0);
+                Point2::new(q.x, q.y)
+            })
+            .collect();
+        Prism {
+            id: self.id,
+            footprint,
+            z_min: self.z_min,
+            z_max: self.z_max,
+            points: self.points.transformed(motion),
+        }
+    }
+}
+
+/// Default smallest footprint IoU for [`track_ids`] to call two prisms the same object.
+pub const TRACK_MIN_IOU: f64 = 0.3;
+
+/// Gives `current` prisms the ids of the `previous` prisms they overlap most (footprint IoU ≥
+/// [`TRACK_MIN_IOU`]); the others get fresh ids above every previous one.
+///
+/// Matching is greedy by decreasing IoU (ties by index), one-to-one, so it is deterministic; fresh ids are
+/// handed out in `current` order.
+pub fn track_ids(previous: &[Prism], current: &mut [Prism]) {
+    track_ids_with(previous, current, TRACK_MIN_IOU);
+}
+
+/// [`track_ids`] with an explicit IoU threshold.
+pub fn track_ids_with(previous: &[Prism], current: &mut [Prism], min_iou: f64) {
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (j, cur) in current.iter().enumerate() {
+        for (i, prev) in previous.iter().enumerate() {
+            let iou = cur.footprint_iou(prev);
+            if iou >= min_iou && iou > 0.0 {
+                pairs.push((iou, i, j));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut prev_used = vec![false; previous.len()];
+    let mut assigned: Vec<Option<ObjectId>> = vec![None; current.len()];
+    for (_, i, j) in pairs {
+        if !prev_used[i] && assigned[j].is_none() {
+            prev_used[i] = true;
+            assigned[j] = Some(previous[i].id);
+        }
+    }
+    let mut next = previous.iter().map(|p| p.id.0 + 1).max().unwrap_or(0);
+    for (cur, id) in current.iter_mut().zip(assigned) {
+        cur.id = id.unwrap_or_else(|| {
+            let fresh = ObjectId(next);
+            next = next.saturating_add(1);
+            fresh
+        });
+    }
+}
+
+/// Signed area of a polygon (positive when counter-clockwise).
+pub fn polygon_area(poly: &[Point2<f64>]) -> f64 {
+    let n = poly.len();
+    if n < 3 {
+        return 0.0;
+    }
+    0.5 * (0..n)
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+}
+
+/// Intersection over union of two convex counter-clockwise polygons.
+pub fn convex_iou(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
+    let (area_a, area_b) = (polygon_area(a).abs(), polygon_area(b).abs());
+    if area_a <= 0.0 || area_b <= 0.0 {
+        return 0.0;
+    }
+    let inter = polygon_area(&clip_convex(a, b)).abs();
+    let union = area_a + area_b - inter;
+    if union > 0.0 { inter / union } else { 0.0 }
+}
+
+/// Sutherland–Hodgman: the part of convex polygon `subject` inside convex CCW polygon `clip`.
+fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>> {
+    let mut out: Vec<Point2<f64>> = subject.to_vec();
+    let n = clip.len();
+    for i in 0..n {
+        if out.is_empty() {
+            break;
+        }
+        let (a, b) = (clip[i], clip[(i + 1) % n]);
+        let side = |p: &Point2<f64>| (b - a).perp(&(p - a));
+        let input = std::mem::take(&mut out);
+        for k in 0..input.len() {
+            let (p, q) = (input[k], input[(k + 1) % input.len()]);
+            let (sp, sq) = (side(&p), side(&q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                let t = sp / (sp - sq);
+                out.push(p + (q - p) * t);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cloud::CloudFrame;
+
+    fn square(id: u32, x: f64, y: f64, side: f64) -> Prism {
+        Prism {
+            id: ObjectId(id),
+            footprint: vec![
+                Point2::new(x, y),
+                Point2::new(x + side, y),
+                Point2::new(x + side, y + side),
+                Point2::new(x, y + side),
+            ],
+            z_min: 0.0,
+            z_max: 1.0,
+            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
+        }
+    }
+
+    #[test]
+    fn iou_of_half_shifted_squares_is_one_third() {
+        // Invariant: IoU is intersection area over union area of the footprints.
+        let a = square(0, 0.0, 0.0, 1.0);
+        let b = square(1, 0.5, 0.0, 1.0);
+        assert!((a.footprint_iou(&b) - 1.0 / 3.0).abs() < 1e-12);
+        assert_eq!(a.footprint_iou(&square(2, 5.0, 5.0, 1.0)), 0.0);
+    }
+
+    #[test]
+    fn tracking_keeps_ids_of_overlapping_prisms_and_numbers_new_ones_above() {
+        // Invariant: an object that overlaps its previous footprint keeps its id; a new one gets a fresh
+        // id above every previous id; the result does not depend on anything but the input.
+        let previous = vec![square(4, 0.0, 0.0, 1.0), square(9, 3.0, 0.0, 1.0)];
+        let mut current = vec![
+            square(0, 5.0, 5.0, 1.0),
+            square(0, 3.1, 0.0, 1.0),
+            square(0, 0.05, 0.05, 1.0),
+        ];
+        track_ids(&previous, &mut current);
+        let ids: Vec<u32> = current.iter().map(|p| p.id.0).collect();
+        assert_eq!(ids, vec![10, 9, 4]);
+    }
+
+    #[test]
+    fn a_moved_prism_keeps_its_id_when_tracked_after_the_push() {
+        // Invariant: transforming the previous prism by the push motion lets tracking keep the id.
+        let chair = square(3, 3.55, 0.6, 0.5);
+        let push = Isometry3::translation(0.8, 0.0, 0.0);
+        let mut after = vec![square(0, 4.35, 0.6, 0.5)];
+        track_ids(std::slice::from_ref(&chair), &mut after);
+        assert_eq!(
+            after[0].id,
+            ObjectId(4),
+            "without the motion the chair looks new"
+        );
+        track_ids(&[chair.transformed(&push)], &mut after);
+        assert_eq!(after[0].id, ObjectId(3));
+        assert!(after[0].contains_xy(&Point2::new(4.6, 0.85)));
+    }
 }

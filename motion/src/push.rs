@@ -1,0 +1,380 @@
+//! Push planning: where to stand, where to put the hand, which way and how far to push.
+//!
+//! Kakiuchi et al. push 800 mm straight ahead from a stand pose chosen by hand. Here every face of
+//! the prism is a candidate: the robot stands in front of it, facing it, and pushes along its inward
+//! normal. A push is valid when the robot can stand there (free, hand within reach), the object's
+//! swept footprint meets no other obstacle (whose height range meets the object's) nor a wall, and
+//! the robot following it stays free. Among valid pushes the one that opens a path to the goal with
+//! the smallest distance wins (then the shortest approach); when none opens a path the shortest
+//! valid push is returned with `opens_path == false` (it still serves as a push *test*). The stand
+//! pose must be reachable: a planned approach path from the robot's position must exist.
+
+use nalgebra::{Isometry2, Point2, Point3, Unit, Vector2};
+use nudge_perception::{ObjectId, Prism};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::obstacle::Obstacle;
+use crate::path::Path;
+use crate::planner::rrt_connect::RrtConnect;
+use crate::planner::shortcut::Shortcut;
+use crate::planner::{Budget, Planner};
+use crate::problem::{GoalRegion, Problem};
+use crate::space::pose;
+use crate::validity::{StateValidity, Validity, ValidityError};
+
+/// Where the hand can reach and what to try.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushConfig {
+    /// Push distances to try, shortest first (m).
+    pub distances: Vec<f64>,
+    /// Hand reach ahead of the body axis in `base_link` x (m).
+    pub reach_x: (f64, f64),
+    /// Hand reach sideways in `base_link` y (m).
+    pub reach_y: (f64, f64),
+    /// Hand reach in height, `base_link` z (m).
+    pub reach_z: (f64, f64),
+    /// Lateral offsets of the robot from the contact point to try (m).
+    pub lateral_offsets: Vec<f64>,
+    /// Positions along a face to try as the contact point, as fractions of its length.
+    pub contact_fractions: Vec<f64>,
+    /// Steps in which the stand-off (body axis to face) grows from its minimum (m).
+    pub standoff_step: f64,
+    /// Gap left between the robot's cylinder and the object when standing (m).
+    pub standoff_margin: f64,
+    /// How far below the top of the facing surface the hand pushes (m).
+    pub hand_below_top: f64,
+    /// Points within this distance of a face belong to the surface facing the robot (m).
+    pub face_band: f64,
+    /// Faces shorter than this are not pushed (m).
+    pub min_face: f64,
+    /// Faces whose normals differ by less than this are one push direction (rad).
+    pub merge_angle: f64,
+    /// Planner for the approach and for the path after the push.
+    pub planner: RrtConnect,
+    /// Its budget per query.
+    pub budget: Budget,
+    /// Shortcutting applied to the paths returned.
+    pub shortcut: Shortcut,
+}
+
+impl Default for PushConfig {
+    fn default() -> Self {
+        Self {
+            distances: (3..=12).map(|k| f64::from(k) * 0.1).collect(),
+            reach_x: (0.2, 0.8),
+            reach_y: (-0.4, 0.4),
+            reach_z: (0.2, 1.2),
+            lateral_offsets: vec![0.0, 0.1, -0.1, 0.2, -0.2, 0.3, -0.3, 0.4, -0.4],
+            contact_fractions: vec![0.5, 0.3, 0.7, 0.15, 0.85],
+            standoff_step: 0.05,
+            standoff_margin: 0.05,
+            hand_below_top: 0.05,
+            face_band: 0.05,
+            min_face: 0.1,
+            merge_angle: 10f64.to_radians(),
+            planner: RrtConnect::default(),
+            budget: Budget::iterations(5_000),
+            shortcut: Shortcut::default(),
+        }
+    }
+}
+
+/// A push: stand here, hand there, push this way this far.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushPlan {
+    /// The object pushed.
+    pub object: ObjectId,
+    /// Where the robot stands before pushing, facing the push direction (map frame).
+    pub stand_pose: Isometry2<f64>,
+    /// Height of the hand above the floor (m): just below the top of the surface facing the robot.
+    pub hand_height: f64,
+    /// Direction of the push in the map frame.
+    pub direction: Unit<Vector2<f64>>,
+    /// How far to push (m).
+    pub distance: f64,
+    /// Where the hand meets the object (map frame, z = hand height).
+    pub contact_point: Point3<f64>,
+    /// The object's footprint after the push (map frame).
+    pub displaced_footprint: Vec<Point2<f64>>,
+    /// Whether, after the push, a path leads from the robot to the goal.
+    pub opens_path: bool,
+    /// That path, from where the push leaves the robot.
+    pub path_after: Option<Path>,
+    /// The path from the robot's position to the stand pose.
+    pub approach: Path,
+}
+
+/// Why no push could be planned.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum PushError {
+    /// The object is not among the obstacles that block the robot.
+    #[error("{0} is not a blocking obstacle")]
+    UnknownObject(ObjectId),
+    /// No face is long enough and high enough for the hand.
+    #[error("{0} has no face the hand can push")]
+    NoPushableFace(ObjectId),
+    /// No collision-free pose in front of a pushable face has the hand within reach.
+    #[error("no free stand pose in front of {0}")]
+    NoStandPose(ObjectId),
+    /// Every push sweeps the object into another obstacle or a wall, or the robot cannot follow.
+    #[error("every push of {0} runs into something")]
+    Blocked(ObjectId),
+    /// No valid stand pose can be reached from the robot's position.
+    #[error("no valid push of {0} has a reachable stand pose")]
+    Unreachable(ObjectId),
+    /// The world could not be edited.
+    #[error(transparent)]
+    Validity(#[from] ValidityError),
+}
+
+/// A face to push and where to stand in front of it.
+#[derive(Clone, Debug)]
+struct Stance {
+    direction: Unit<Vector2<f64>>,
+    stand: Point2<f64>,
+    contact: Point2<f64>,
+    hand_height: f64,
+}
+
+/// A valid push from a stance.
+#[derive(Clone, Debug)]
+struct Candidate {
+    stance: Stance,
+    distance: f64,
+    displaced: Vec<Point2<f64>>,
+    path_after: Option<Path>,
+}
+
+/// Plans a push of `prism` for a robot at `robot` that wants to reach `goal` in `validity`'s world.
+pub fn plan_push(
+    prism: &Prism,
+    validity: &Validity,
+    robot: &Point2<f64>,
+    goal: &GoalRegion,
+    config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Result<PushPlan, PushError> {
+    let id = prism.id;
+    let object = validity
+        .obstacle(id)
+        .ok_or(PushError::UnknownObject(id))?
+        .clone();
+    let seed: u64 = rng.random();
+    let faces = pushable_faces(&object, prism, config);
+    if faces.is_empty() {
+        return Err(PushError::NoPushableFace(id));
+    }
+    let stances: Vec<Stance> = faces
+        .iter()
+        .filter_map(|f| stance_for(f, validity, config))
+        .collect();
+    if stances.is_empty() {
+        return Err(PushError::NoStandPose(id));
+    }
+    let others: Vec<&Obstacle> = validity
+        .obstacles()
+        .iter()
+        .filter(|o| o.id() != id && o.heights_overlap(&object))
+        .collect();
+    let without = validity.without(&[id]);
+    let mut candidates = Vec::new();
+    for (k, stance) in stances.iter().enumerate() {
+        let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add(k as u64));
+        candidates.extend(valid_pushes(
+            stance, &object, &others, validity, &without, goal, config, &mut own,
+        )?);
+    }
+    if candidates.is_empty() {
+        return Err(PushError::Blocked(id));
+    }
+    // Openers first, shortest push first; stable sort keeps face order for ties.
+    candidates.sort_by(|a, b| {
+        b.path_after
+            .is_some()
+            .cmp(&a.path_after.is_some())
+            .then(a.distance.total_cmp(&b.distance))
+    });
+    let mut own = ChaCha8Rng::seed_from_u64(seed ^ 0xA5A5_A5A5);
+    for c in candidates {
+        let Some(approach) = plan(validity, robot, &c.stance.stand, 0.0, config, &mut own) else {
+            continue;
+        };
+        let s = &c.stance;
+        return Ok(PushPlan {
+            object: id,
+            stand_pose: pose(s.stand.x, s.stand.y, s.direction.y.atan2(s.direction.x)),
+            hand_height: s.hand_height,
+            direction: s.direction,
+            distance: c.distance,
+            contact_point: Point3::new(s.contact.x, s.contact.y, s.hand_height),
+            displaced_footprint: c.displaced,
+            opens_path: c.path_after.is_some(),
+            path_after: c.path_after,
+            approach,
+        });
+    }
+    Err(PushError::Unreachable(id))
+}
+
+/// A face of the footprint: its ends, inward push direction and the hand height on it.
+#[derive(Clone, Debug)]
+struct Face {
+    a: Point2<f64>,
+    b: Point2<f64>,
+    direction: Unit<Vector2<f64>>,
+    hand_height: f64,
+}
+
+fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<Face> {
+    let f = object.footprint();
+    let n = f.len();
+    let mut faces: Vec<Face> = Vec::new();
+    for i in 0..n {
+        let (a, b) = (f[i], f[(i + 1) % n]);
+        let edge = b - a;
+        if edge.norm() < config.min_face {
+            continue;
+        }
+        // Counter-clockwise footprint: the outward normal is the edge turned clockwise.
+        let outward = Unit::new_normalize(Vector2::new(edge.y, -edge.x));
+        let Some(hand_height) = hand_height_on(&a, &b, &outward, object, prism, config) else {
+            continue;
+        };
+        let face = Face {
+            a,
+            b,
+            direction: Unit::new_unchecked(-outward.into_inner()),
+            hand_height,
+        };
+        // Nearly parallel faces (a hull of noisy points) are one direction: keep the longest.
+        match faces
+            .iter_mut()
+            .find(|g| g.direction.angle(&face.direction) < config.merge_angle)
+        {
+            Some(g) if (g.b - g.a).norm() < edge.norm() => *g = face,
+            Some(_) => {}
+            None => faces.push(face),
+        }
+    }
+    faces
+}
+
+/// The top of the surface facing the robot, from the points near the face (else the prism's top),
+/// less a margin, clamped into the hand's reach; `None` when the surface is out of reach.
+fn hand_height_on(
+    a: &Point2<f64>,
+    b: &Point2<f64>,
+    outward: &Unit<Vector2<f64>>,
+    object: &Obstacle,
+    prism: &Prism,
+    config: &PushConfig,
+) -> Option<f64> {
+    let edge = b - a;
+    let len2 = edge.norm_squared();
+    let near_face = prism.points.iter_valid().filter_map(|(_, p, _)| {
+        let q = Point2::new(f64::from(p.x), f64::from(p.y));
+        let depth = -(q - a).dot(outward);
+        let t = (q - a).dot(&edge) / len2;
+        (depth.abs() <= config.face_band && (-0.05..=1.05).contains(&t)).then_some(f64::from(p.z))
+    });
+    let top = near_face
+        .fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
+        .unwrap_or(object.z_max())
+        .min(object.z_max());
+    let (low, high) = config.reach_z;
+    let bottom = object.z_min().max(low);
+    let h = (top - config.hand_below_top).min(high);
+    (h >= bottom).then_some(h)
+}
+
+/// The first free stand pose in front of `face` with the hand within reach.
+fn stance_for(face: &Face, validity: &Validity, config: &PushConfig) -> Option<Stance> {
+    let d = face.direction.into_inner();
+    let tangent = Vector2::new(-d.y, d.x);
+    let r = validity.robot().radius;
+    let min_standoff = (r + config.standoff_margin).max(config.reach_x.0);
+    let steps = ((config.reach_x.1 - min_standoff) / config.standoff_step.max(1e-3)).floor();
+    let standoffs =
+        (0..=steps.max(-1.0) as i64).map(|k| min_standoff + k as f64 * config.standoff_step);
+    for standoff in standoffs {
+        for &t in &config.contact_fractions {
+            let contact = face.a + (face.b - face.a) * t;
+            for &lateral in &config.lateral_offsets {
+                // The hand is at -lateral in base_link y when the body is shifted by +lateral.
+                if !(config.reach_y.0..=config.reach_y.1).contains(&(-lateral)) {
+                    continue;
+                }
+                let stand = contact - d * standoff + tangent * lateral;
+                if validity.is_free(&stand) {
+                    return Some(Stance {
+                        direction: face.direction,
+                        stand,
+                        contact,
+                        hand_height: face.hand_height,
+                    });
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Valid pushes from `stance`, shortest first: the first that opens a path ends the list, since a
+/// longer push along the same face is no better.
+#[allow(clippy::too_many_arguments)]
+fn valid_pushes(
+    stance: &Stance,
+    object: &Obstacle,
+    others: &[&Obstacle],
+    validity: &Validity,
+    without: &Validity,
+    goal: &GoalRegion,
+    config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Result<Vec<Candidate>, PushError> {
+    let mut out = Vec::new();
+    let d = stance.direction.into_inner();
+    for &distance in &config.distances {
+        if !(distance.is_finite() && distance > 0.0) {
+            continue;
+        }
+        let offset = d * distance;
+        let swept = object.swept(&offset).map_err(ValidityError::from)?;
+        let into_other = others.iter().any(|o| o.distance_to_obstacle(&swept) <= 0.0);
+        let walls = validity.walls();
+        let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
+        let end = stance.stand + offset;
+        // Sweeps only grow with distance: once blocked, longer pushes are blocked too.
+        if into_other || through_wall || !without.motion_free(&stance.stand, &end) {
+            break;
+        }
+        let after = validity.with_moved(object.id(), &offset)?;
+        let path_after = plan(&after, &end, &goal.centre(), goal.tolerance(), config, rng);
+        let opens = path_after.is_some();
+        out.push(Candidate {
+            stance: stance.clone(),
+            distance,
+            displaced: object.footprint().iter().map(|p| p + offset).collect(),
+            path_after,
+        });
+        if opens {
+            break;
+        }
+    }
+    Ok(out)
+}
+
+fn plan(
+    validity: &Validity,
+    from: &Point2<f64>,
+    to: &Point2<f64>,
+    tolerance: f64,
+    config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Option<Path> {
+    let problem = Problem::new(*from, *to, tolerance).ok()?;
+    let mut planner = config.planner;
+    let path = planner.solve(&problem, validity, config.budget, rng).ok()?;
+    Some(config.shortcut.shorten(&path, validity, rng))
+}

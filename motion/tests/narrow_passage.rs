@@ -1,0 +1,65 @@
+//! Narrow passages A and Z: 10 cm of clearance in a 10 m world.
+
+mod common;
+
+use nudge_motion::{Budget, Planner, Rrt, RrtConnect, StateValidity};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+const SEEDS: u64 = 200;
+
+fn successes(
+    planner: &mut dyn Planner,
+    world: &(nudge_motion::Validity, nudge_motion::Problem),
+    budget: Budget,
+) -> u64 {
+    let (v, p) = world;
+    let mut ok = 0;
+    for seed in 0..SEEDS {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        if let Ok(path) = planner.solve(p, v, budget, &mut rng) {
+            assert!(path.is_free(v), "seed {seed}: path collides (exact check)");
+            assert_eq!(
+                path.first_collision(v, 0.01),
+                None,
+                "seed {seed}: sample collides"
+            );
+            assert_eq!(path.start(), p.start());
+            assert!(p.goal().contains(&path.end()));
+            assert!(v.is_free(&path.end()));
+            ok += 1;
+        }
+    }
+    ok
+}
+
+#[test]
+fn rrt_connect_solves_a_and_z_on_every_seed() {
+    // Invariant: RRT-Connect solves both narrow passages on 200 of 200 seeds with free paths.
+    let budget = Budget::iterations(200_000);
+    let a = successes(&mut RrtConnect::default(), &common::narrow_a(), budget);
+    let z = successes(&mut RrtConnect::default(), &common::narrow_z(), budget);
+    println!("RRT-Connect: A {a}/{SEEDS}, Z {z}/{SEEDS}");
+    assert_eq!((a, z), (SEEDS, SEEDS));
+}
+
+#[test]
+fn rrt_paths_are_free_and_it_mostly_succeeds() {
+    // Invariant: goal-biased RRT returns only free paths; its success rate is reported.
+    let budget = Budget::iterations(50_000);
+    let a = successes(&mut Rrt::default(), &common::narrow_a(), budget);
+    let z = successes(&mut Rrt::default(), &common::narrow_z(), budget);
+    println!("RRT: A {a}/{SEEDS}, Z {z}/{SEEDS}");
+    assert!(a > 0 && z > 0, "RRT never solved a narrow passage");
+}
+
+#[test]
+fn the_passages_are_really_narrow() {
+    // Invariant: the gaps leave 5 cm each side: 4 cm off centre is free, 6 cm is not.
+    let (v, _) = common::narrow_a();
+    let centre = nalgebra::Point2::new(6.8 + common::GAP / 2.0, 5.0);
+    assert!(v.is_free(&centre));
+    assert!(v.is_free(&(centre + nalgebra::Vector2::new(0.04, 0.0))));
+    assert!(!v.is_free(&(centre + nalgebra::Vector2::new(0.06, 0.0))));
+    assert!((v.clearance(&centre) - 0.05).abs() < 1e-4);
+}

@@ -1,0 +1,170 @@
+//! The paper's room (BRIEF geometry): no path at the start, pushing a chair opens one.
+
+mod common;
+
+use common::{CHAIR_1, CHAIR_2, MAT, TABLE};
+use nudge_motion::{
+    BlockingConfig, Budget, Planner, PushConfig, PushPlan, RrtConnect, StateValidity, Validity,
+    blocking_obstacles, plan_push,
+};
+use nudge_perception::{ObjectId, Prism};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+fn prism(id: ObjectId) -> Prism {
+    common::room_prisms()
+        .into_iter()
+        .find(|p| p.id == id)
+        .expect("the room holds this object")
+}
+
+/// Checks what every push plan must satisfy, returns the world after the push.
+fn check_push(plan: &PushPlan, v: &Validity) -> Validity {
+    let stand = plan.stand_pose.translation.vector.into();
+    assert!(v.is_free(&stand), "robot stands inside something");
+    assert!(plan.approach.is_free(v), "approach collides");
+    let offset = plan.direction.into_inner() * plan.distance;
+    let object = v
+        .obstacle(plan.object)
+        .expect("pushed object is an obstacle");
+    let swept = object.swept(&offset).expect("swept footprint");
+    for other in v.obstacles().iter().filter(|o| o.id() != plan.object) {
+        if other.heights_overlap(object) {
+            assert!(
+                other.distance_to_obstacle(&swept) > 0.0,
+                "{} pushed into {}",
+                plan.object,
+                other.id()
+            );
+        }
+    }
+    assert!(swept.footprint().iter().all(|p| v.walls().contains(p)));
+    // Hand within reach in base_link.
+    let contact = nalgebra::Point2::new(plan.contact_point.x, plan.contact_point.y);
+    let hand = plan.stand_pose.inverse_transform_point(&contact);
+    assert!(
+        (0.2..=0.8).contains(&hand.x) && (-0.4..=0.4).contains(&hand.y),
+        "{hand:?}"
+    );
+    assert!((0.2..=1.2).contains(&plan.hand_height));
+    let after = v.with_moved(plan.object, &offset).expect("object moves");
+    if let Some(path) = &plan.path_after {
+        assert!(path.is_free(&after));
+        assert_eq!(path.first_collision(&after, 0.01), None);
+    }
+    after
+}
+
+#[test]
+fn no_path_at_the_start() {
+    // Invariant: every gap in the room is narrower than the robot, so no planner finds a path.
+    let (v, p) = common::room();
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let out = RrtConnect::default().solve(&p, &v, Budget::iterations(20_000), &mut rng);
+    assert_eq!(
+        out,
+        Err(nudge_motion::NoPath::NotFound { iterations: 20_000 })
+    );
+    // The mat lies on the floor: it does not block.
+    assert_eq!(v.passable(), &[MAT]);
+}
+
+#[test]
+fn removing_a_chair_opens_a_path() {
+    // Invariant: the blocking query says removing either chair (or the table) opens a path.
+    let (v, p) = common::room();
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let reports = blocking_obstacles(
+        &p,
+        &v,
+        &[TABLE, CHAIR_1, CHAIR_2, ObjectId(99)],
+        &BlockingConfig::default(),
+        &mut rng,
+    );
+    for r in &reports {
+        println!("without {}: {:?} m", r.object, r.path_length());
+    }
+    assert_eq!(reports.len(), 3, "unknown ids are skipped");
+    assert!(reports.iter().all(|r| r.opens_path()));
+    let lengths: Vec<f64> = reports.iter().filter_map(|r| r.path_length()).collect();
+    assert!(lengths.windows(2).all(|w| w[0] <= w[1]), "sorted by length");
+}
+
+#[test]
+fn pushing_chair_1_opens_a_path() {
+    // Invariant: the push planner finds a valid push of chair 1 that opens a path to the goal.
+    let (v, p) = common::room();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let plan = plan_push(
+        &prism(CHAIR_1),
+        &v,
+        &p.start(),
+        p.goal(),
+        &PushConfig::default(),
+        &mut rng,
+    )
+    .expect("chair 1 can be pushed");
+    println!(
+        "chair-1: stand {:?} dir {:?} distance {:.1} hand {:.2} opens {} after {:?} m",
+        plan.stand_pose.translation.vector,
+        plan.direction.into_inner(),
+        plan.distance,
+        plan.hand_height,
+        plan.opens_path,
+        plan.path_after.as_ref().map(|p| p.length())
+    );
+    assert!(plan.opens_path);
+    let after = check_push(&plan, &v);
+    // After the push a path exists from the original start too.
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let path = RrtConnect::default()
+        .solve(&p, &after, Budget::iterations(20_000), &mut rng)
+        .expect("a path after pushing chair 1");
+    assert!(path.is_free(&after));
+}
+
+#[test]
+fn pushes_of_chair_2_and_table_are_valid_when_planned() {
+    // Invariant: whatever the planner returns for chair 2 and the table is a valid push.
+    let (v, p) = common::room();
+    for id in [CHAIR_2, TABLE] {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        match plan_push(
+            &prism(id),
+            &v,
+            &p.start(),
+            p.goal(),
+            &PushConfig::default(),
+            &mut rng,
+        ) {
+            Ok(plan) => {
+                println!(
+                    "{id}: stand {:?} dir {:?} distance {:.1} hand {:.2} opens {}",
+                    plan.stand_pose.translation.vector,
+                    plan.direction.into_inner(),
+                    plan.distance,
+                    plan.hand_height,
+                    plan.opens_path
+                );
+                check_push(&plan, &v);
+            }
+            Err(e) => println!("{id}: {e}"),
+        }
+    }
+}
+
+#[test]
+fn the_mat_cannot_be_pushed() {
+    // Invariant: a prism that does not block (the mat) is not a push target.
+    let (v, p) = common::room();
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    let out = plan_push(
+        &prism(MAT),
+        &v,
+        &p.start(),
+        p.goal(),
+        &PushConfig::default(),
+        &mut rng,
+    );
+    assert_eq!(out, Err(nudge_motion::PushError::UnknownObject(MAT)));
+}

@@ -1,0 +1,95 @@
+//! The whole detection: floor → elevation map → labelling → prisms → id tracking.
+
+use nalgebra::{Isometry2, Point2};
+
+use crate::cloud::ColourCloud;
+use crate::elevation::{ElevationConfig, ElevationMap};
+use crate::error::PerceptionError;
+use crate::floor::{FloorConfig, FloorModel};
+use crate::lookaround::{LookAroundConfig, fuse};
+use crate::prism::{Prism, TRACK_MIN_IOU, track_ids_with};
+use crate::prisms::{PrismConfig, build_prisms};
+use crate::segment::{SegmentConfig, label};
+
+/// Every stage's parameters (each with documented defaults).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PerceptionConfig {
+    /// The look-around's views.
+    pub look_around: LookAroundConfig,
+    /// Floor detection.
+    pub floor: FloorConfig,
+    /// Elevation map.
+    pub elevation: ElevationConfig,
+    /// Labelling.
+    pub segment: SegmentConfig,
+    /// Prism building.
+    pub prism: PrismConfig,
+    /// Smallest footprint IoU to keep an id across looks. Default [`TRACK_MIN_IOU`] (0.3).
+    pub track_min_iou: f64,
+}
+
+impl Default for PerceptionConfig {
+    fn default() -> Self {
+        Self {
+            look_around: LookAroundConfig::default(),
+            floor: FloorConfig::default(),
+            elevation: ElevationConfig::default(),
+            segment: SegmentConfig::default(),
+            prism: PrismConfig::default(),
+            track_min_iou: TRACK_MIN_IOU,
+        }
+    }
+}
+
+/// What one detection found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Detection {
+    /// The floor model learned in front of the robot.
+    pub floor: FloorModel,
+    /// The obstacles, ids matched to the previous look's.
+    pub prisms: Vec<Prism>,
+}
+
+/// Runs the pipeline on a fused map-frame cloud and returns only the prisms.
+///
+/// `base_pose` is the robot's planar pose in the map frame (the known floor lies in front of it);
+/// `previous` are the last look's prisms (empty at the first look), whose ids are kept where footprints
+/// overlap. A cloud with no valid point or no floor in front is an error.
+pub fn detect_objects(
+    fused: &ColourCloud,
+    base_pose: &Isometry2<f64>,
+    config: &PerceptionConfig,
+    previous: &[Prism],
+) -> Result<Vec<Prism>, PerceptionError> {
+    detect(fused, base_pose, config, previous).map(|d| d.prisms)
+}
+
+/// [`detect_objects`] that also returns the floor model.
+pub fn detect(
+    fused: &ColourCloud,
+    base_pose: &Isometry2<f64>,
+    config: &PerceptionConfig,
+    previous: &[Prism],
+) -> Result<Detection, PerceptionError> {
+    if fused.valid_count() == 0 {
+        return Err(PerceptionError::EmptyCloud);
+    }
+    let floor = FloorModel::learn(fused, base_pose, &config.floor)?;
+    let obstacles = floor.split(fused).1;
+    let centre = Point2::from(base_pose.translation.vector);
+    let map = ElevationMap::build(&obstacles, floor.height(), centre, &config.elevation)?;
+    let clusters = label(&map, &config.segment);
+    let mut prisms = build_prisms(&obstacles, &map, &clusters, &config.prism);
+    track_ids_with(previous, &mut prisms, config.track_min_iou);
+    Ok(Detection { floor, prisms })
+}
+
+/// Fuses the look-around's clouds (sensor or map frame, each with its sensor pose) and detects.
+pub fn detect_from_views(
+    views: &[ColourCloud],
+    base_pose: &Isometry2<f64>,
+    config: &PerceptionConfig,
+    previous: &[Prism],
+) -> Result<Detection, PerceptionError> {
+    detect(&fuse(views), base_pose, config, previous)
+}
