@@ -16,6 +16,7 @@ pub mod machine;
 pub mod push_test;
 pub mod record;
 pub mod robot;
+pub mod runner;
 pub mod state;
 
 pub use command::Command;
@@ -24,4 +25,5 @@ pub use event::{Candidate, Event};
 pub use explain::{Explanation, TestRecord};
 pub use machine::{Edge, Knowledge, Step, start, transition};
 pub use push_test::{Finding, PushEvidence, PushIntent, Verdict};
+pub use runner::{RunConfig, RunReport, Runner};
 pub use state::{AbortReason, Approach, Purpose, State};

@@ -1,0 +1,99 @@
+//! Everything a run needs to know besides the robot.
+
+use nalgebra::Point2;
+use nudge_motion::planner::rrt_connect::RrtConnect;
+use nudge_motion::{BlockingConfig, Budget, PushConfig, RobotCylinder, Shortcut, ValidityConfig};
+use nudge_perception::PerceptionConfig;
+
+use crate::config::ExecutiveConfig;
+
+/// How the hand pushes during a push test and a clearing push.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushMotionConfig {
+    /// Hand speed along the push (m/s).
+    pub speed: f64,
+    /// The hand starts this far before the expected contact (m).
+    pub approach_gap: f64,
+    /// A push test pushes this far past the expected contact (m).
+    pub test_travel: f64,
+    /// Force norm above which the hand counts as touching (N).
+    pub contact_threshold: f64,
+    /// Farthest the hand reaches ahead of the body axis (m).
+    pub reach: f64,
+    /// Nearest the hand comes to the body axis (m).
+    pub near: f64,
+    /// Points this far around an object's footprint belong to it when cropping for ICP (m).
+    pub crop_margin: f64,
+}
+
+impl Default for PushMotionConfig {
+    fn default() -> Self {
+        Self {
+            speed: 0.1,
+            approach_gap: 0.08,
+            test_travel: 0.15,
+            contact_threshold: 2.0,
+            reach: 0.8,
+            near: 0.2,
+            crop_margin: 0.06,
+        }
+    }
+}
+
+/// A run's parameters.
+#[derive(Clone, Debug)]
+pub struct RunConfig {
+    /// Limits, policy and the push test's thresholds.
+    pub executive: ExecutiveConfig,
+    /// Perception's stages (the look-around's views included).
+    pub perception: PerceptionConfig,
+    /// The robot's bounding cylinder.
+    pub robot: RobotCylinder,
+    /// Which prisms block the cylinder.
+    pub validity: ValidityConfig,
+    /// The goal (map frame, m).
+    pub goal: Point2<f64>,
+    /// Radius of the goal region (m).
+    pub goal_tolerance: f64,
+    /// The path planner.
+    pub planner: RrtConnect,
+    /// Its budget per query.
+    pub budget: Budget,
+    /// Path shortcutting.
+    pub shortcut: Shortcut,
+    /// Push planning.
+    pub push: PushConfig,
+    /// The `blocking` policy's query.
+    pub blocking: BlockingConfig,
+    /// How the hand pushes.
+    pub push_motion: PushMotionConfig,
+    /// Prisms wider than this (m) are walls or furniture too large to push, never candidates.
+    pub max_candidate_extent: f64,
+    /// Robot time between polls of a running action (s).
+    pub tick: f64,
+    /// Seed of every random choice in the run.
+    pub seed: u64,
+}
+
+impl RunConfig {
+    /// Defaults for a robot of `robot` size heading to `goal`.
+    pub fn new(robot: RobotCylinder, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
+        Self {
+            executive: ExecutiveConfig::default(),
+            perception: PerceptionConfig::default(),
+            robot,
+            validity: ValidityConfig::default(),
+            goal,
+            goal_tolerance,
+            planner: RrtConnect::default(),
+            budget: Budget::iterations(20_000),
+            shortcut: Shortcut::default(),
+            push: PushConfig::default(),
+            blocking: BlockingConfig::default(),
+            push_motion: PushMotionConfig::default(),
+            max_candidate_extent: 2.0,
+            tick: 0.05,
+            seed,
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! Looking around and turning what was seen into obstacles.
+
+use nalgebra::{Isometry2, Isometry3, Translation3, UnitQuaternion};
+use nudge_perception::detect_from_views;
+
+use super::{Interrupt, Runner};
+use crate::event::Event;
+use crate::record::Observer;
+use crate::robot::Robot;
+
+/// Where a head of `(pan, tilt)` on `base` looks from, for frames without a capture yet.
+pub(crate) fn camera_pose(base: &Isometry2<f64>, head: (f64, f64)) -> Isometry3<f64> {
+    let t = base.translation.vector;
+    Isometry3::from_parts(
+        Translation3::new(t.x, t.y, HEAD_HEIGHT),
+        UnitQuaternion::from_euler_angles(0.0, head.1, base.rotation.angle() + head.0),
+    )
+}
+
+/// Nominal camera height for frames drawn before the first capture (m).
+const HEAD_HEIGHT: f64 = 1.4;
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    /// Sweeps the head through the look-around's views, capturing one cloud at each.
+    pub(crate) fn look_around(&mut self) -> Event {
+        match self.capture_views() {
+            Ok(views) => Event::LookedAround { views },
+            Err(i) => i.into(),
+        }
+    }
+
+    fn capture_views(&mut self) -> Result<usize, Interrupt> {
+        let views = self.config.perception.look_around.views();
+        self.world.views.clear();
+        for view in &views {
+            self.robot
+                .start_point_head(view.pan_deg.to_radians(), view.tilt_deg.to_radians())?;
+            self.wait(|r| r.head_status())?;
+            let cloud = self.robot.capture()?;
+            self.world.camera = Some(*cloud.sensor_pose());
+            self.observer.cloud(&cloud);
+            self.world.views.push(cloud);
+        }
+        self.robot.start_point_head(0.0, 0.0)?;
+        Ok(views.len())
+    }
+
+    /// Runs perception on the latest look-around.
+    pub(crate) fn detect_objects(&mut self) -> Event {
+        let base = match self.robot.base_pose() {
+            Ok(b) => b.value,
+            Err(e) => return Interrupt::Robot(e).into(),
+        };
+        match detect_from_views(
+            &self.world.views,
+            &base,
+            &self.config.perception,
+            &self.world.prisms,
+        ) {
+            Ok(detection) => {
+                self.world.prisms = detection.prisms;
+                let stamp = self.robot.now();
+                self.observer.prisms(stamp, &self.world.prisms);
+                Event::ObjectsDetected {
+                    count: self.world.prisms.len(),
+                }
+            }
+            Err(e) => Event::PerceptionFailed(e.to_string()),
+        }
+    }
+}

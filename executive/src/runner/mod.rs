@@ -1,0 +1,275 @@
+//! The runner: drives any [`Robot`] through the machine, tick by tick.
+//!
+//! The machine decides ([`crate::machine::transition`]); the runner executes its commands — robot
+//! actions, perception, planning — and feeds back exactly one event per step. Robot actions are started
+//! and polled every [`RunConfig::tick`] of robot time, so the runner can watch sensors, honour a cancel
+//! request and the robot-time budget while anything runs. Nothing here reads the wall clock.
+
+mod config;
+mod look;
+mod navigate;
+mod push;
+mod rank;
+mod report;
+mod world;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+pub use config::{PushMotionConfig, RunConfig};
+pub use report::{RunReport, TimelineEntry};
+use world::WorldModel;
+
+use crate::command::Command;
+use crate::event::Event;
+use crate::machine::{Knowledge, Step, start, transition};
+use crate::record::{LogLevel, Observer, RobotFrames};
+use crate::robot::{ActionStatus, Robot, RobotError};
+use crate::state::State;
+
+/// Why a wait for an action ended early.
+#[derive(Debug)]
+pub(crate) enum Interrupt {
+    /// Cancelled from outside.
+    Cancel,
+    /// The robot-time budget is spent (robot time, s).
+    TimeUp(f64),
+    /// An adapter call failed.
+    Robot(RobotError),
+}
+
+impl From<RobotError> for Interrupt {
+    fn from(e: RobotError) -> Self {
+        Interrupt::Robot(e)
+    }
+}
+
+impl From<Interrupt> for Event {
+    fn from(i: Interrupt) -> Self {
+        match i {
+            Interrupt::Cancel => Event::Cancel,
+            Interrupt::TimeUp(t) => Event::TimeUp(t),
+            Interrupt::Robot(e) => Event::RobotFailed(e.to_string()),
+        }
+    }
+}
+
+/// Drives a robot through one run.
+pub struct Runner<R: Robot, O: Observer> {
+    robot: R,
+    observer: O,
+    config: RunConfig,
+    world: WorldModel,
+    rng: ChaCha8Rng,
+    cancel: Arc<AtomicBool>,
+    start_time: f64,
+}
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    /// A runner for `robot`, reporting to `observer`.
+    pub fn new(robot: R, observer: O, config: RunConfig) -> Self {
+        let rng = ChaCha8Rng::seed_from_u64(config.seed);
+        Self {
+            robot,
+            observer,
+            config,
+            world: WorldModel::default(),
+            rng,
+            cancel: Arc::new(AtomicBool::new(false)),
+            start_time: 0.0,
+        }
+    }
+
+    /// A flag that, once set (from another thread or a signal handler), cancels the run safely.
+    pub fn cancel_flag(&self) -> Arc<AtomicBool> {
+        Arc::clone(&self.cancel)
+    }
+
+    /// The robot, e.g. to read ground truth from a simulation after the run.
+    pub fn robot(&self) -> &R {
+        &self.robot
+    }
+
+    /// The observer, e.g. to finish a recording.
+    pub fn into_parts(self) -> (R, O) {
+        (self.robot, self.observer)
+    }
+
+    /// Runs until the machine reaches a terminal state and reports the outcome.
+    pub fn run(&mut self) -> RunReport {
+        self.start_time = self.robot.now();
+        let mut timeline = Vec::new();
+        let mut step = start();
+        let mut state = State::LookAround;
+        self.record(&mut timeline, &State::LookAround, &step);
+        loop {
+            let event = self.execute(&step.commands, &step.knowledge);
+            let Some(event) = event else {
+                break;
+            };
+            state = step.state.clone();
+            let next = transition(&state, &step.knowledge, &event, &self.config.executive);
+            self.record(&mut timeline, &state, &next);
+            self.report_verdicts(&step.knowledge, &next.knowledge, &event);
+            step = next;
+            if step.state.is_terminal() {
+                break;
+            }
+        }
+        let _ = state;
+        RunReport {
+            outcome: step.state,
+            knowledge: step.knowledge,
+            robot_time: self.robot.now() - self.start_time,
+            timeline,
+        }
+    }
+
+    fn record(&mut self, timeline: &mut Vec<TimelineEntry>, from: &State, step: &Step) {
+        let stamp = self.robot.now();
+        self.observer
+            .transition(stamp, from, step.edge, &step.state);
+        timeline.push(TimelineEntry {
+            stamp,
+            from: from.name(),
+            edge: step.edge,
+            to: step.state.name(),
+        });
+    }
+
+    fn report_verdicts(&mut self, before: &Knowledge, after: &Knowledge, event: &Event) {
+        let Event::PushTestDone(evidence) = event else {
+            return;
+        };
+        let stamp = self.robot.now();
+        for (id, verdict) in &after.explanation.verdicts {
+            if before.explanation.verdicts.get(id) != Some(verdict) {
+                self.observer.verdict(stamp, *id, verdict, evidence);
+            }
+        }
+    }
+
+    /// Executes a step's commands in order; the last one that reports an event ends the step.
+    fn execute(&mut self, commands: &[Command], knowledge: &Knowledge) -> Option<Event> {
+        let mut event = None;
+        for command in commands {
+            if let Some(e) = self.execute_one(command, knowledge) {
+                event = Some(e);
+            }
+        }
+        if event.is_none() && !commands.is_empty() {
+            let stamp = self.robot.now();
+            self.observer.note(
+                stamp,
+                LogLevel::Error,
+                "a step's commands reported no event",
+            );
+        }
+        event
+    }
+
+    fn execute_one(&mut self, command: &Command, knowledge: &Knowledge) -> Option<Event> {
+        if self.cancel.load(Ordering::Relaxed) && !matches!(command, Command::SafeStop) {
+            return Some(Event::Cancel);
+        }
+        match command {
+            Command::LookAround => Some(self.look_around()),
+            Command::DetectObjects => Some(self.detect_objects()),
+            Command::PlanPath => Some(self.plan_path()),
+            Command::FollowPath => Some(self.follow_path()),
+            Command::StopWalk => self
+                .robot
+                .stop_walk()
+                .err()
+                .map(|e| Interrupt::Robot(e).into()),
+            Command::RankCandidates { policy, exclude } => Some(self.rank(*policy, exclude)),
+            Command::PlanPush { target, .. } => Some(self.plan_push(*target)),
+            Command::WalkToPushPose(intent) => Some(self.walk_to_push_pose(intent)),
+            Command::PushTest { intent, .. } => Some(self.push_test(intent)),
+            Command::MarkVerdict {
+                target, verdict, ..
+            } => {
+                let stamp = self.robot.now();
+                self.observer.note(
+                    stamp,
+                    LogLevel::Info,
+                    &format!("{target} marked {verdict:?}"),
+                );
+                let _ = knowledge;
+                None
+            }
+            Command::ClearPath(intent) => Some(self.clear_path(intent)),
+            Command::SafeStop => Some(self.safe_stop()),
+        }
+    }
+
+    /// Lets one tick of robot time pass, honouring cancel and the time budget, and reports frames.
+    pub(crate) fn tick(&mut self) -> Result<(), Interrupt> {
+        if self.cancel.load(Ordering::Relaxed) {
+            return Err(Interrupt::Cancel);
+        }
+        let elapsed = self.robot.now() - self.start_time;
+        if elapsed >= self.config.executive.max_robot_time {
+            return Err(Interrupt::TimeUp(elapsed));
+        }
+        self.robot.advance(self.config.tick)?;
+        self.report_frames()?;
+        Ok(())
+    }
+
+    fn report_frames(&mut self) -> Result<(), RobotError> {
+        let base = self.robot.base_pose()?;
+        let head = self.robot.head_angles()?.value;
+        let hand = self.robot.hand_position()?.value;
+        let camera = look::camera_pose(&base.value, head);
+        self.observer.frames(
+            base.stamp,
+            &RobotFrames {
+                base: base.value,
+                head,
+                camera,
+                hand,
+            },
+        );
+        Ok(())
+    }
+
+    /// Polls `status` every tick until the action is done.
+    pub(crate) fn wait<T>(
+        &mut self,
+        mut status: impl FnMut(&mut R) -> Result<ActionStatus<T>, RobotError>,
+    ) -> Result<T, Interrupt> {
+        loop {
+            if let ActionStatus::Done(outcome) = status(&mut self.robot)? {
+                return Ok(outcome);
+            }
+            self.tick()?;
+        }
+    }
+
+    /// Retracts the arm and stops the base, ignoring the cancel flag (this is how a cancel ends).
+    fn safe_stop(&mut self) -> Event {
+        let result = (|| -> Result<(), RobotError> {
+            self.robot.stop_walk()?;
+            self.robot.stop_hand()?;
+            self.robot.start_retract()?;
+            for _ in 0..400 {
+                if let ActionStatus::Done(_) = self.robot.hand_status()? {
+                    return Ok(());
+                }
+                self.robot.advance(self.config.tick)?;
+            }
+            Err(RobotError::Timeout {
+                capability: "arm",
+                seconds: 400.0 * self.config.tick,
+            })
+        })();
+        match result {
+            Ok(()) => Event::Stopped,
+            Err(e) => Event::RobotFailed(e.to_string()),
+        }
+    }
+}

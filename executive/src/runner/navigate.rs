@@ -1,0 +1,134 @@
+//! Planning paths and walking them.
+
+use nalgebra::Point2;
+use nudge_motion::{Path, Planner, Problem};
+
+use super::world::WorldModel;
+use super::{Interrupt, Runner};
+use crate::event::Event;
+use crate::push_test::PushIntent;
+use crate::record::Observer;
+use crate::robot::{Robot, WalkOutcome};
+
+/// Extra distance beyond the goal tolerance within which an arrival counts (m): the walk's own error.
+const ARRIVAL_SLACK: f64 = 0.05;
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    fn position(&mut self) -> Result<Point2<f64>, Interrupt> {
+        let pose = self.robot.base_pose()?.value;
+        Ok(Point2::from(pose.translation.vector))
+    }
+
+    /// Plans a path from the robot to the goal among the latest obstacles.
+    pub(crate) fn plan_path(&mut self) -> Event {
+        let here = match self.position() {
+            Ok(p) => p,
+            Err(i) => return i.into(),
+        };
+        match self.plan_to(here, None) {
+            Ok(path) => {
+                let stamp = self.robot.now();
+                self.observer.path(stamp, path.waypoints());
+                let length = path.length();
+                self.world.path = Some(path);
+                Event::PathFound { length }
+            }
+            Err(reason) => {
+                self.world.path = None;
+                Event::NoPath { reason }
+            }
+        }
+    }
+
+    /// A shortcut path from `here` to the goal, or to `target` within 3 cm when given.
+    fn plan_to(&mut self, here: Point2<f64>, target: Option<Point2<f64>>) -> Result<Path, String> {
+        let validity = self.world.validity(&here, &self.config)?;
+        let problem = match target {
+            Some(t) => Problem::new(here, t, 0.03).map_err(|e| e.to_string())?,
+            None => WorldModel::problem(&here, &self.config)?,
+        };
+        let mut planner = self.config.planner;
+        let path = planner
+            .solve(&problem, &validity, self.config.budget, &mut self.rng)
+            .map_err(|e| e.to_string())?;
+        Ok(self
+            .config
+            .shortcut
+            .shorten(&path, &validity, &mut self.rng))
+    }
+
+    /// Walks the planned path to the goal.
+    pub(crate) fn follow_path(&mut self) -> Event {
+        let Some(path) = self.world.path.clone() else {
+            return Event::PathInvalidated {
+                reason: "no path to follow".into(),
+            };
+        };
+        match self.walk(path.waypoints()) {
+            Ok(WalkOutcome::Arrived) => match self.position() {
+                Ok(p)
+                    if (p - self.config.goal).norm()
+                        <= self.config.goal_tolerance + ARRIVAL_SLACK =>
+                {
+                    Event::Arrived
+                }
+                Ok(p) => Event::PathInvalidated {
+                    reason: format!(
+                        "the walk ended at ({:.2}, {:.2}), outside the goal region",
+                        p.x, p.y
+                    ),
+                },
+                Err(i) => i.into(),
+            },
+            Ok(WalkOutcome::Blocked { .. }) => Event::WalkBlocked,
+            Ok(WalkOutcome::Stopped) => Event::PathInvalidated {
+                reason: "the walk was stopped".into(),
+            },
+            Err(i) => i.into(),
+        }
+    }
+
+    /// Starts a walk through `waypoints` (the first is where the robot stands) and waits for its end.
+    fn walk(&mut self, waypoints: &[Point2<f64>]) -> Result<WalkOutcome, Interrupt> {
+        let rest = waypoints.get(1..).unwrap_or_default();
+        if rest.is_empty() {
+            return Ok(WalkOutcome::Arrived);
+        }
+        self.robot.start_walk(rest)?;
+        self.wait(|r| r.walk_status())
+    }
+
+    /// Walks to the stand pose of `intent` and turns to face the push.
+    pub(crate) fn walk_to_push_pose(&mut self, intent: &PushIntent) -> Event {
+        let here = match self.position() {
+            Ok(p) => p,
+            Err(i) => return i.into(),
+        };
+        let stand = Point2::from(intent.stand.translation.vector);
+        let planned = self
+            .world
+            .push_plan
+            .as_ref()
+            .filter(|p| p.object == intent.target && (p.approach.start() - here).norm() < 0.05)
+            .map(|p| p.approach.clone());
+        let path = match planned.map_or_else(|| self.plan_to(here, Some(stand)), Ok) {
+            Ok(path) => path,
+            Err(_) => return Event::WalkBlocked,
+        };
+        let walked = self.walk(path.waypoints());
+        let outcome = match walked {
+            Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),
+            other => other,
+        };
+        match outcome {
+            Ok(WalkOutcome::Arrived) => Event::Arrived,
+            Ok(_) => Event::WalkBlocked,
+            Err(i) => i.into(),
+        }
+    }
+
+    fn turn_to(&mut self, yaw: f64) -> Result<WalkOutcome, Interrupt> {
+        self.robot.start_turn(yaw)?;
+        self.wait(|r| r.walk_status())
+    }
+}

@@ -1,0 +1,330 @@
+//! Pushing: planning a push, the push test (force, hand travel, colour ICP), and clearing the way.
+
+use nalgebra::{Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2, Vector3};
+use nudge_motion::{GoalRegion, Obstacle, plan_push};
+use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colour_icp};
+
+use super::{Interrupt, Runner};
+use crate::event::Event;
+use crate::push_test::{IcpReading, PushEvidence, PushIntent};
+use crate::record::Observer;
+use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
+
+/// Camera height assumed when aiming the head (m); the aim only has to put the object in view.
+const AIM_HEIGHT: f64 = 1.4;
+
+/// What one guarded stroke measured.
+struct Stroke {
+    outcome: HandOutcome,
+    peak_force: f64,
+    contact: bool,
+    travel_after_contact: f64,
+    end_x: f64,
+    trace: Vec<(f64, f64)>,
+}
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    fn prism(&self, id: ObjectId) -> Option<&Prism> {
+        self.world.prisms.iter().find(|p| p.id == id)
+    }
+
+    /// Plans a push of `target` from where the robot stands.
+    pub(crate) fn plan_push(&mut self, target: ObjectId) -> Event {
+        let here = match self.robot.base_pose() {
+            Ok(p) => Point2::from(p.value.translation.vector),
+            Err(e) => return Interrupt::Robot(e).into(),
+        };
+        let validity = match self.world.validity(&here, &self.config) {
+            Ok(v) => v,
+            Err(reason) => return Event::NoPushPlan { reason },
+        };
+        let Some(prism) = self.prism(target).cloned() else {
+            return Event::NoPushPlan {
+                reason: format!("{target} is no longer seen"),
+            };
+        };
+        let goal = match GoalRegion::new(self.config.goal, self.config.goal_tolerance) {
+            Ok(g) => g,
+            Err(e) => {
+                return Event::NoPushPlan {
+                    reason: e.to_string(),
+                };
+            }
+        };
+        match plan_push(
+            &prism,
+            &validity,
+            &here,
+            &goal,
+            &self.config.push,
+            &mut self.rng,
+        ) {
+            Ok(plan) => {
+                let intent = PushIntent {
+                    target,
+                    stand: plan.stand_pose,
+                    hand_height: plan.hand_height,
+                    direction: plan.direction,
+                    distance: plan.distance,
+                };
+                let stamp = self.robot.now();
+                self.observer.push(stamp, &intent, None);
+                self.world.push_plan = Some(plan);
+                Event::PushPlanned(intent)
+            }
+            Err(e) => Event::NoPushPlan {
+                reason: e.to_string(),
+            },
+        }
+    }
+
+    /// The contact point in `base_link` (x ahead, y left), from the plan or, failing that, the prism.
+    fn contact_in_base(&mut self, intent: &PushIntent) -> Result<Point2<f64>, Interrupt> {
+        let base = self.robot.base_pose()?.value;
+        let contact = self
+            .world
+            .push_plan
+            .as_ref()
+            .filter(|p| p.object == intent.target)
+            .map(|p| Point2::new(p.contact_point.x, p.contact_point.y))
+            .unwrap_or_else(|| {
+                Point2::from(intent.stand.translation.vector) + intent.direction.into_inner() * 0.5
+            });
+        Ok(base.inverse_transform_point(&contact))
+    }
+
+    /// Runs one push test: clouds before, a guarded stroke, clouds after, colour ICP.
+    pub(crate) fn push_test(&mut self, intent: &PushIntent) -> Event {
+        match self.run_push_test(intent) {
+            Ok(evidence) => Event::PushTestDone(evidence),
+            Err(i) => i.into(),
+        }
+    }
+
+    fn run_push_test(&mut self, intent: &PushIntent) -> Result<PushEvidence, Interrupt> {
+        let motion = self.config.push_motion.clone();
+        let prism = self.prism(intent.target).cloned();
+        let before = match &prism {
+            Some(p) => Some(self.object_points(p, Vector2::zeros())?),
+            None => None,
+        };
+        let contact = self.contact_in_base(intent)?;
+        let from_x = (contact.x - motion.approach_gap).max(motion.near);
+        let to_x = (contact.x + motion.test_travel).min(motion.reach);
+        let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height)?;
+        self.retract()?;
+        let direction = intent.direction.into_inner();
+        let icp = match (&prism, before) {
+            (Some(p), Some(before)) => {
+                let shift = direction * stroke.travel_after_contact;
+                let after = self.object_points(p, shift)?;
+                icp_reading(&before, &after, shift)
+            }
+            _ => None,
+        };
+        let stamp = self.robot.now();
+        self.observer
+            .push(stamp, intent, Some(-direction * stroke.peak_force));
+        Ok(PushEvidence {
+            force_limit: self.config.executive.force_limit,
+            peak_force: stroke.peak_force,
+            reached_limit: matches!(stroke.outcome, HandOutcome::ForceLimit { .. }),
+            contact: stroke.contact,
+            hand_travel: stroke.travel_after_contact,
+            icp,
+            force_trace: stroke.trace,
+        })
+    }
+
+    /// Pushes a movable object along the plan in guarded strokes, walking after it between strokes.
+    pub(crate) fn clear_path(&mut self, intent: &PushIntent) -> Event {
+        match self.run_clear_path(intent) {
+            Ok(event) => event,
+            Err(i) => i.into(),
+        }
+    }
+
+    fn run_clear_path(&mut self, intent: &PushIntent) -> Result<Event, Interrupt> {
+        const MAX_STROKES: usize = 12;
+        let motion = self.config.push_motion.clone();
+        let face = self.contact_in_base(intent)?;
+        let direction = intent.direction.into_inner();
+        let mut moved = 0.0;
+        let mut peak: f64 = 0.0;
+        for _ in 0..MAX_STROKES {
+            let remaining = intent.distance - moved;
+            if remaining <= 0.02 {
+                break;
+            }
+            let from_x = (face.x - motion.approach_gap).max(motion.near);
+            let to_x = (face.x + remaining).min(motion.reach);
+            let stroke = self.stroke(from_x, to_x, face.y, intent.hand_height)?;
+            peak = peak.max(stroke.peak_force);
+            moved += stroke.travel_after_contact;
+            self.retract()?;
+            if let HandOutcome::ForceLimit { .. } = stroke.outcome {
+                return Ok(Event::Jammed {
+                    peak_force: peak,
+                    moved,
+                });
+            }
+            if !stroke.contact {
+                // The object is out of reach: step up to it.
+                self.step_forward(direction, (to_x - face.x).max(0.05))?;
+                continue;
+            }
+            // Walk after the object so its face is back where the stroke started from.
+            let advance = stroke.end_x - face.x;
+            if advance > 0.01 && moved + 0.02 < intent.distance {
+                self.step_forward(direction, advance)?;
+            }
+        }
+        let stamp = self.robot.now();
+        self.observer.push(stamp, intent, Some(-direction * peak));
+        Ok(Event::Cleared { moved })
+    }
+
+    fn step_forward(&mut self, direction: Vector2<f64>, distance: f64) -> Result<(), Interrupt> {
+        let here = self.robot.base_pose()?.value;
+        let to = Point2::from(here.translation.vector) + direction * distance;
+        self.robot.start_walk(&[to])?;
+        self.wait(|r| r.walk_status())?;
+        Ok(())
+    }
+
+    fn retract(&mut self) -> Result<(), Interrupt> {
+        self.robot.start_retract()?;
+        self.wait(|r| r.hand_status())?;
+        Ok(())
+    }
+
+    /// One guarded stroke along `base_link` x at lateral offset `y` and height `z`, watching the wrist.
+    fn stroke(&mut self, from_x: f64, to_x: f64, y: f64, z: f64) -> Result<Stroke, Interrupt> {
+        let motion = self.config.push_motion.clone();
+        self.robot.tare()?;
+        self.robot.drain_wrenches()?;
+        self.robot.start_guarded_move(GuardedMove {
+            from: Point3::new(from_x, y, z),
+            to: Point3::new(to_x.max(from_x), y, z),
+            speed: motion.speed,
+            force_limit: self.config.executive.force_limit,
+        })?;
+        let mut trace = Vec::new();
+        let mut hand: Vec<Stamped<Point3<f64>>> = Vec::new();
+        let mut contact_stamp: Option<f64> = None;
+        let outcome = loop {
+            let status = self.robot.hand_status()?;
+            hand.push(self.robot.hand_position()?);
+            for sample in self.robot.drain_wrenches()? {
+                self.record_wrench(&sample, &mut trace);
+                let f = sample.value.force_norm();
+                if contact_stamp.is_none() && f >= motion.contact_threshold {
+                    contact_stamp = Some(sample.stamp);
+                }
+            }
+            if let crate::robot::ActionStatus::Done(outcome) = status {
+                break outcome;
+            }
+            self.tick()?;
+        };
+        let end_x = hand.last().map_or(from_x, |h| h.value.x);
+        let travel_after_contact = contact_stamp.map_or(0.0, |t| {
+            let at_contact = hand
+                .iter()
+                .rev()
+                .find(|h| h.stamp <= t)
+                .or(hand.first())
+                .map_or(end_x, |h| h.value.x);
+            (end_x - at_contact).max(0.0)
+        });
+        let peak_force = trace.iter().map(|(_, f)| *f).fold(0.0, f64::max);
+        Ok(Stroke {
+            outcome,
+            peak_force,
+            contact: contact_stamp.is_some(),
+            travel_after_contact,
+            end_x,
+            trace,
+        })
+    }
+
+    fn record_wrench(&mut self, sample: &Stamped<Wrench>, trace: &mut Vec<(f64, f64)>) {
+        self.observer.wrench(sample.stamp, &sample.value);
+        trace.push((sample.stamp, sample.value.force_norm()));
+    }
+
+    /// Looks at `prism` (moved by `shift`) and returns its points in the map frame.
+    fn object_points(
+        &mut self,
+        prism: &Prism,
+        shift: Vector2<f64>,
+    ) -> Result<ColourCloud, Interrupt> {
+        let base = self.robot.base_pose()?.value;
+        let centre = prism
+            .footprint
+            .iter()
+            .fold(Vector2::zeros(), |acc, p| acc + p.coords)
+            / prism.footprint.len().max(1) as f64
+            + shift;
+        let rel = centre - base.translation.vector;
+        let pan = wrap(rel.y.atan2(rel.x) - base.rotation.angle());
+        let aim_z = 0.5 * (prism.z_min + prism.z_max);
+        let tilt = (AIM_HEIGHT - aim_z).atan2(rel.norm().max(0.1));
+        self.robot.start_point_head(pan, tilt)?;
+        self.wait(|r| r.head_status())?;
+        let cloud = self.robot.capture()?;
+        self.observer.cloud(&cloud);
+        Ok(crop(
+            &cloud.to_map(),
+            prism,
+            shift,
+            self.config.push_motion.crop_margin,
+        ))
+    }
+}
+
+fn wrap(a: f64) -> f64 {
+    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+}
+
+/// The points of `cloud` (map frame) inside `prism`'s footprint moved by `shift` and grown by `margin`,
+/// above the floor and below its top.
+fn crop(cloud: &ColourCloud, prism: &Prism, shift: Vector2<f64>, margin: f64) -> ColourCloud {
+    let mut out = ColourCloud::empty(CloudFrame::Map, *cloud.sensor_pose(), cloud.stamp());
+    let Ok(region) = Obstacle::from_prism(prism).and_then(|o| o.translated(&shift)) else {
+        return out;
+    };
+    for (_, p, c) in cloud.iter_valid() {
+        let q = Point2::new(f64::from(p.x), f64::from(p.y));
+        let z = f64::from(p.z);
+        if z > 0.02
+            && z < prism.z_max + 0.05
+            && (region.contains(&q) || region.distance_to_point(&q) <= margin)
+        {
+            out.push(p, c);
+        }
+    }
+    out
+}
+
+/// Colour ICP from the points before to the points after, starting from the hand's travel.
+fn icp_reading(
+    before: &ColourCloud,
+    after: &ColourCloud,
+    shift: Vector2<f64>,
+) -> Option<IcpReading> {
+    let initial = Isometry3::from_parts(
+        Translation3::new(shift.x, shift.y, 0.0),
+        UnitQuaternion::identity(),
+    );
+    let result = colour_icp(before, after, &initial, &IcpConfig::default()).ok()?;
+    let centroid: Point3<f64> = before.centroid()?;
+    let moved: Vector3<f64> = result.transform * centroid - centroid;
+    Some(IcpReading {
+        displacement: moved.xy().norm(),
+        yaw_deg: result.yaw_deg,
+        converged: result.converged,
+        fitness: result.fitness,
+        rmse: result.rmse,
+    })
+}

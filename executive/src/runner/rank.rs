@@ -1,0 +1,87 @@
+//! Ordering push candidates by the run's policy.
+
+use nalgebra::Point2;
+use nudge_motion::{Obstacle, blocking_obstacles};
+use nudge_perception::{ObjectId, Prism};
+
+use super::world::WorldModel;
+use super::{Interrupt, Runner};
+use crate::config::CandidatePolicy;
+use crate::event::{Candidate, Event};
+use crate::record::Observer;
+use crate::robot::Robot;
+
+/// Largest distance between two footprint vertices (m).
+fn extent(prism: &Prism) -> f64 {
+    let f = &prism.footprint;
+    f.iter()
+        .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
+        .fold(0.0, f64::max)
+}
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    /// Ranks the pushable obstacles: nearest first, or those whose removal opens the cheapest path first.
+    pub(crate) fn rank(&mut self, policy: CandidatePolicy, exclude: &[ObjectId]) -> Event {
+        let here = match self.robot.base_pose() {
+            Ok(p) => Point2::from(p.value.translation.vector),
+            Err(e) => return Interrupt::Robot(e).into(),
+        };
+        let validity = match self.world.validity(&here, &self.config) {
+            Ok(v) => v,
+            Err(e) => return Event::PerceptionFailed(e),
+        };
+        // Candidates: obstacles that block the robot (not stepped over, not passed under), small enough
+        // to push, not settled.
+        let mut by_distance: Vec<(f64, ObjectId)> = self
+            .world
+            .prisms
+            .iter()
+            .filter(|p| !exclude.contains(&p.id) && extent(p) <= self.config.max_candidate_extent)
+            .filter_map(|p| {
+                validity
+                    .obstacle(p.id)
+                    .map(|o: &Obstacle| (o.distance_to_point(&here), p.id))
+            })
+            .collect();
+        by_distance.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let nearest: Vec<ObjectId> = by_distance.iter().map(|(_, id)| *id).collect();
+        let ordered = match policy {
+            CandidatePolicy::Nearest => nearest,
+            CandidatePolicy::Blocking => {
+                let problem = match WorldModel::problem(&here, &self.config) {
+                    Ok(p) => p,
+                    Err(e) => return Event::PerceptionFailed(e),
+                };
+                let reports = blocking_obstacles(
+                    &problem,
+                    &validity,
+                    &nearest,
+                    &self.config.blocking,
+                    &mut self.rng,
+                );
+                // Openers first, cheapest path first (the report's order); then the rest, nearest first.
+                let mut ordered: Vec<ObjectId> = reports
+                    .iter()
+                    .filter(|r| r.opens_path())
+                    .map(|r| r.object)
+                    .collect();
+                let rest: Vec<ObjectId> = nearest
+                    .iter()
+                    .copied()
+                    .filter(|id| !ordered.contains(id))
+                    .collect();
+                ordered.extend(rest);
+                ordered
+            }
+        };
+        Event::CandidatesRanked(
+            ordered
+                .into_iter()
+                .map(|id| Candidate {
+                    id,
+                    passively_movable: false,
+                })
+                .collect(),
+        )
+    }
+}

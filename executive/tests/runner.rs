@@ -1,0 +1,104 @@
+//! The runner drives a robot through the machine and always ends cleanly: tested on the fake robot.
+
+use std::sync::atomic::Ordering;
+
+use nalgebra::{Isometry2, Point2, Vector2};
+use nudge_executive::record::NullObserver;
+use nudge_executive::robot::{FakeRobot, RobotError};
+use nudge_executive::{AbortReason, RunConfig, Runner, State};
+use nudge_motion::RobotCylinder;
+
+fn config() -> RunConfig {
+    RunConfig::new(
+        RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        },
+        Point2::new(5.4, 1.8),
+        0.2,
+        1,
+    )
+}
+
+fn robot() -> FakeRobot {
+    FakeRobot::new(Isometry2::new(Vector2::new(0.6, 1.8), 0.0))
+}
+
+#[test]
+fn a_cancel_retracts_the_arm_and_aborts() {
+    // Invariant: a run cancelled from outside ends in Aborted(Cancelled) after retracting the arm.
+    let mut runner = Runner::new(robot(), NullObserver, config());
+    runner.cancel_flag().store(true, Ordering::Relaxed);
+    let report = runner.run();
+    assert!(
+        matches!(report.outcome, State::Aborted(AbortReason::Cancelled, _)),
+        "{:?}",
+        report.outcome
+    );
+    assert!(runner.robot().calls().iter().any(|c| c == "start_retract"));
+    assert_eq!(report.timeline.last().map(|t| t.to), Some("Aborted"));
+}
+
+#[test]
+fn a_look_around_of_empty_clouds_ends_in_a_perception_abort() {
+    // Invariant: perception failing on the robot's data ends the run in Aborted(Perception), never a panic.
+    let mut runner = Runner::new(robot(), NullObserver, config());
+    let report = runner.run();
+    assert!(
+        matches!(
+            report.outcome,
+            State::Aborted(AbortReason::Perception(_), _)
+        ),
+        "{:?}",
+        report.outcome
+    );
+    let captures = runner
+        .robot()
+        .calls()
+        .iter()
+        .filter(|c| *c == "capture")
+        .count();
+    assert_eq!(captures, 15, "one capture per look-around view");
+}
+
+#[test]
+fn the_robot_time_budget_ends_the_run() {
+    // Invariant: once the robot-time budget is spent the run stops safely with TimeLimit.
+    let mut config = config();
+    config.executive.max_robot_time = 0.5;
+    let mut runner = Runner::new(robot(), NullObserver, config);
+    let report = runner.run();
+    assert!(
+        matches!(report.outcome, State::Aborted(AbortReason::TimeLimit(t), _) if t >= 0.5),
+        "{:?}",
+        report.outcome
+    );
+    assert!(report.robot_time < 1.0);
+}
+
+#[test]
+fn an_adapter_error_ends_the_run_with_that_error() {
+    // Invariant: an adapter failure ends in Aborted(Robot) carrying the adapter's message.
+    let mut robot = robot();
+    robot.fail_next(
+        "camera",
+        RobotError::Fault {
+            capability: "camera",
+            reason: "lens cap".into(),
+        },
+    );
+    let mut runner = Runner::new(robot, NullObserver, config());
+    let report = runner.run();
+    match report.outcome {
+        State::Aborted(AbortReason::Robot(message), _) => assert!(message.contains("lens cap")),
+        other => panic!("expected Aborted(Robot), got {other:?}"),
+    }
+}
+
+#[test]
+fn the_same_seed_gives_the_same_run() {
+    // Invariant: two runs of the same robot and seed produce identical reports.
+    let a = Runner::new(robot(), NullObserver, config()).run();
+    let b = Runner::new(robot(), NullObserver, config()).run();
+    assert_eq!(a, b);
+}
