@@ -44,7 +44,7 @@
 //! name = "person"                    # unique among actors
 //! radius = 0.25                      # default 0.25 m
 //! height = 1.7                       # default 1.7 m
-//! waypoints = [[1.0, 0.5], [5.0, 0.5]]   # x, y (m), at least one; starts at the first
+//! waypoints = [[1.0, 3.2], [5.0, 3.2]]   # x, y (m), at least one; starts at the first
 //! speed = 0.6                        # m/s
 //! start_time = 0.0                   # s, default 0
 //! pause = [0.0, 3.0]                 # s at each waypoint: empty (default) or one per waypoint

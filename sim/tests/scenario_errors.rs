@@ -650,3 +650,20 @@ fn a_missing_file_is_an_io_error_naming_the_path() {
         "{error}"
     );
 }
+
+#[test]
+fn columns_count_characters_not_bytes() {
+    // Invariant: a column is the character position a person sees, even after multi-byte characters.
+    let line = r#"object = [{ name = "Stühle-ü", kind = "chair", position = [1.0, 1.0], size = [0.5, 0.5, 0.8], mass = -3.0, colour = [1, 2, 3] }]"#;
+    let text = format!(
+        "{line}\nname = \"inline\"\n[room]\nsize = [6.0, 3.6]\n[robot]\nstart = [0.6, 1.8, 0.0]\n[goal]\nposition = [5.4, 1.8]\n"
+    );
+    let error = refuse(&text);
+    let byte_column = line.find("-3.0").expect("the mass") + 1;
+    let char_column = line[..byte_column - 1].chars().count() + 1;
+    assert_ne!(byte_column, char_column);
+    assert_eq!(
+        (error.field.to_string(), error.line, error.column),
+        ("object[0].mass".to_owned(), 1, char_column)
+    );
+}

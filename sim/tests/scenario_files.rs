@@ -406,3 +406,31 @@ fn the_tamura_timeline_plays_while_the_robot_walks() {
         "leaves past the robot"
     );
 }
+
+#[test]
+fn the_example_in_the_format_docs_loads() {
+    // Invariant: the full example in the module docs of `scenario.rs` is a valid scenario, so the
+    // documentation of the format cannot drift from the format.
+    let source =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scenario.rs"))
+            .expect("the module source");
+    let example: String = source
+        .lines()
+        .skip_while(|l| *l != "//! ```toml")
+        .skip(1)
+        .take_while(|l| *l != "//! ```")
+        .map(|l| {
+            format!(
+                "{}\n",
+                l.trim_start_matches("//!").strip_prefix(' ').unwrap_or("")
+            )
+        })
+        .collect();
+    assert!(
+        example.lines().count() > 40,
+        "the example was not found:\n{example}"
+    );
+    let scenario =
+        Scenario::from_toml_str(&example, "scenario.rs docs").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((scenario.objects.len(), scenario.actors.len()), (1, 1));
+}
