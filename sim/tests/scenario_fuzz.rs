@@ -125,3 +125,15 @@ fn floor_boundary(text: &str, mut i: usize) -> usize {
     }
     i
 }
+
+#[test]
+fn deeply_nested_arrays_are_an_error_not_a_stack_overflow() {
+    // Invariant: hostile nesting depth is refused by the parser's limit before any recursive walk.
+    let text = format!(
+        "name = \"deep\"\nx = {}{}\n",
+        "[".repeat(100_000),
+        "]".repeat(100_000)
+    );
+    let error = Scenario::from_toml_str(&text, "deep.toml").expect_err("nesting too deep");
+    assert!(error.to_string().starts_with("deep.toml:2:"), "{error}");
+}

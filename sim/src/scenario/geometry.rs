@@ -12,6 +12,9 @@ use super::{ActorSpec, Goal, ObjectKind, ObjectSpec, RobotSpec, Room};
 /// Corners of a circumscribed polygon standing in for a disc in [`Footprint::polygon`].
 pub const DISC_POLYGON_CORNERS: usize = 24;
 
+/// How far outside a footprint a point may be and still count as on its boundary (m).
+pub const BOUNDARY_TOLERANCE: f64 = 1e-9;
+
 /// An object's solid, from its kind and `size`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
@@ -127,9 +130,10 @@ impl Footprint {
         }
     }
 
-    /// True when `point` is on or inside the footprint.
+    /// True when `point` is on or inside the footprint, within [`BOUNDARY_TOLERANCE`] (a corner computed
+    /// through a rotation is rarely exactly on the edge it came from).
     pub fn contains(&self, point: &Point2<f64>) -> bool {
-        self.distance_to_point(point) <= 0.0
+        self.distance_to_point(point) <= BOUNDARY_TOLERANCE
     }
 
     /// The gap between two footprints; 0 when they touch or overlap.
