@@ -88,7 +88,7 @@ mod locate;
 mod validate;
 
 pub use error::{FieldPath, InvalidScenario, PathSegment, ScenarioError, ScenarioFault};
-pub use geometry::{BOUNDARY_TOLERANCE, DISC_POLYGON_CORNERS, Footprint, Shape};
+pub use geometry::{BOUNDARY_TOLERANCE, DISC_POLYGON_CORNERS, Footprint, GRAVITY, Shape};
 pub use load::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML};
 pub use validate::{FRICTION_RANGE, MAX_OBJECTS, MAX_ROOM_SIDE, Violation};
 

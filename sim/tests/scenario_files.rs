@@ -8,7 +8,6 @@ use nudge_sim::scenario::{ExpectedOutcome, Footprint, ObjectSpec, Scenario};
 
 /// The push test's force limit (N) from the brief: an object that needs more is static.
 const PUSH_LIMIT: f64 = 20.0;
-const GRAVITY: f64 = 9.81;
 /// Occupancy-grid cell for the flood fill (m).
 const CELL: f64 = 0.02;
 
@@ -23,9 +22,7 @@ fn load(name: &str) -> Scenario {
 
 fn object<'a>(scenario: &'a Scenario, name: &str) -> &'a ObjectSpec {
     scenario
-        .objects
-        .iter()
-        .find(|o| o.name == name)
+        .object(name)
         .unwrap_or_else(|| panic!("no object {name}"))
 }
 
@@ -160,9 +157,13 @@ fn the_kakiuchi_room_has_the_geometry_of_the_brief() {
         );
     }
     let table = object(&room, "table");
-    assert!(!table.fixed && table.friction * table.mass * GRAVITY > PUSH_LIMIT);
+    assert!(!table.fixed && table.sliding_force() > PUSH_LIMIT);
+    assert!(
+        (table.sliding_force() - 147.15).abs() < 1e-9,
+        "μmg ≈ 147 N as the brief says"
+    );
     let chair = object(&room, "chair-1");
-    assert!(!chair.fixed && chair.friction * chair.mass * GRAVITY < PUSH_LIMIT);
+    assert!(!chair.fixed && chair.sliding_force() < PUSH_LIMIT);
     let expect = room.expect.as_ref().expect("an [expect] block");
     assert_eq!(expect.outcome, ExpectedOutcome::Goal);
     assert_eq!(
@@ -278,11 +279,10 @@ fn expected_classes_agree_with_physics() {
         let Some(expect) = &scenario.expect else {
             continue;
         };
-        let needed = |o: &ObjectSpec| o.friction * o.mass * GRAVITY;
         for name in &expect.static_ {
             let o = object(&scenario, name);
             assert!(
-                o.fixed || needed(o) > PUSH_LIMIT,
+                o.sliding_force() > PUSH_LIMIT,
                 "{}: {name} should be static",
                 path.display()
             );
@@ -290,7 +290,7 @@ fn expected_classes_agree_with_physics() {
         for name in &expect.movable {
             let o = object(&scenario, name);
             assert!(
-                !o.fixed && needed(o) < PUSH_LIMIT,
+                o.sliding_force() < PUSH_LIMIT,
                 "{}: {name} should be movable",
                 path.display()
             );

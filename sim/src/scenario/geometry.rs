@@ -7,10 +7,13 @@ use std::fmt;
 
 use nalgebra::{Isometry2, Point2, Rotation2, Vector2, Vector3};
 
-use super::{ActorSpec, Goal, ObjectKind, ObjectSpec, RobotSpec, Room};
+use super::{ActorSpec, Goal, ObjectKind, ObjectSpec, RobotSpec, Room, Scenario};
 
 /// Corners of a circumscribed polygon standing in for a disc in [`Footprint::polygon`].
 pub const DISC_POLYGON_CORNERS: usize = 24;
+
+/// Standard gravity (m/s²), the one the world uses, for [`ObjectSpec::sliding_force`].
+pub const GRAVITY: f64 = 9.81;
 
 /// How far outside a footprint a point may be and still count as on its boundary (m).
 pub const BOUNDARY_TOLERANCE: f64 = 1e-9;
@@ -281,6 +284,16 @@ impl ObjectSpec {
         Some(self.elevation + self.height()?)
     }
 
+    /// Horizontal force needed to slide the object over the floor (N): Coulomb friction μ·m·g. Infinite
+    /// for a bolted object.
+    pub fn sliding_force(&self) -> f64 {
+        if self.fixed {
+            f64::INFINITY
+        } else {
+            self.friction * self.mass * GRAVITY
+        }
+    }
+
     /// True for things that lie flat on the floor and are walked over (mats).
     pub fn is_flat(&self) -> bool {
         self.kind == ObjectKind::Mat
@@ -290,6 +303,18 @@ impl ObjectSpec {
     /// flat and its underside is lower than `height`.
     pub fn blocks_height(&self, height: f64) -> bool {
         !self.is_flat() && self.elevation < height
+    }
+}
+
+impl Scenario {
+    /// The object called `name`.
+    pub fn object(&self, name: &str) -> Option<&ObjectSpec> {
+        self.objects.iter().find(|o| o.name == name)
+    }
+
+    /// The actor called `name`.
+    pub fn actor(&self, name: &str) -> Option<&ActorSpec> {
+        self.actors.iter().find(|a| a.name == name)
     }
 }
 
