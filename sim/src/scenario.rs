@@ -1,7 +1,96 @@
 //! Scenario files (TOML): the public format of a run's room, robot, goal, objects and actors.
 //!
-//! Units as a person types them: metres, seconds, kilograms, degrees for angles, 0–255 colours.
-//! Unknown fields are errors.
+//! Units as a person types them: metres, seconds, kilograms, degrees for angles (counter-clockwise from
+//! +x), 0–255 RGB colours. The map frame has its origin at a corner of the room, x along `room.size[0]`,
+//! y along `room.size[1]`, z up. Unknown fields are errors; so is any value outside the rules below.
+//!
+//! # Example (the paper's room, abridged: one chair)
+//!
+//! ```toml
+//! name = "kakiuchi-room"
+//! description = "The paper's room: a table and two chairs bar the way; one chair moves."
+//! seed = 1                           # default 1; the CLI may override it
+//!
+//! [room]
+//! size = [6.0, 3.6]                  # x, y (m), at most 100 m a side; walls all around
+//! wall_height = 2.0                  # m, default 2.0
+//! floor_colour = [150, 150, 140]     # default [150, 150, 140]
+//! wall_colour = [225, 222, 210]      # default [225, 222, 210]
+//!
+//! [robot]
+//! start = [0.6, 1.8, 0.0]            # x, y (m), yaw (deg)
+//! radius = 0.35                      # bounding cylinder (m), default 0.35
+//! height = 1.54                      # default 1.54 m
+//! walk_speed = 0.15                  # m/s, default 0.15
+//!
+//! [goal]
+//! position = [5.4, 1.8]              # x, y (m)
+//! tolerance = 0.2                    # m, default 0.2
+//!
+//! [[object]]
+//! name = "chair-1"                   # unique among objects
+//! kind = "chair"                     # box | cylinder | table | chair | mat
+//! position = [3.8, 0.85]             # footprint centre x, y (m)
+//! yaw = 0.0                          # deg, default 0
+//! size = [0.5, 0.5, 0.85]            # x, y, z (m); a cylinder takes [diameter, height]
+//! elevation = 0.0                    # underside above the floor (m), default 0
+//! mass = 4.0                         # kg
+//! friction = 0.4                     # against the floor, in [0, 2], default 0.6
+//! fixed = false                      # bolted to the floor, default false
+//! colour = [40, 70, 170]             # RGB
+//! texture = "noise"                  # plain | stripes | checker | noise, default plain
+//!
+//! [[actor]]
+//! name = "person"                    # unique among actors
+//! radius = 0.25                      # default 0.25 m
+//! height = 1.7                       # default 1.7 m
+//! waypoints = [[1.0, 3.2], [5.0, 3.2]]   # x, y (m), at least one; starts at the first
+//! speed = 0.6                        # m/s
+//! start_time = 0.0                   # s, default 0
+//! pause = [0.0, 3.0]                 # s at each waypoint: empty (default) or one per waypoint
+//! repeat = false                     # walk the list again when done, default false
+//! # carries = "suitcase"             # an object it pulls along from the start
+//! # drop_at = 1                      # waypoint index where it leaves the object
+//! # pick_at = 2                      # waypoint index where it takes it back (after drop_at)
+//!
+//! [expect]                           # optional: what a correct run shows
+//! outcome = "goal"                   # goal | no_path
+//! movable = ["chair-1"]              # object names, default []
+//! static = []                        # object names, default []
+//! ```
+//!
+//! # Rules
+//!
+//! Loading ([`Scenario::from_toml_str`], [`Scenario::from_path`]) refuses, with the file, line, column and
+//! field path of the offending value (`kakiuchi-room.toml:31:8: object[1].mass: must be positive, got -3`):
+//!
+//! - TOML syntax errors, unknown fields, missing required fields, values of the wrong type;
+//! - NaN or infinite numbers anywhere;
+//! - sizes, masses, radii, heights, the wall height, the goal tolerance and speeds that are zero or
+//!   negative; a negative elevation, start time or pause; friction outside [0, 2];
+//! - a `size` with the wrong number of entries (3 for box, table, chair, mat; 2 for cylinder);
+//! - a room over 100 m a side, or more than 500 objects;
+//! - object footprints (rotated by their yaw), the robot's start disc, the goal point, or an actor's disc at
+//!   any waypoint outside the room (touching a wall is allowed);
+//! - the robot's disc at the start overlapping an object, or the goal point inside one. Mats do not count
+//!   (the robot walks over them), nor do objects whose `elevation` is at or above the robot's height (it
+//!   walks under them);
+//! - duplicate object names or duplicate actor names;
+//! - an actor with no waypoints, a `pause` list neither empty nor one per waypoint, `carries` naming an
+//!   unknown or fixed object or one another actor already carries, `drop_at`/`pick_at` without `carries`
+//!   or past the last waypoint, `pick_at` without `drop_at` or not after it (unless the walk repeats);
+//! - `[expect]` naming unknown objects, or one object both movable and static.
+
+mod error;
+mod geometry;
+mod load;
+mod locate;
+mod validate;
+
+pub use error::{FieldPath, InvalidScenario, PathSegment, ScenarioError, ScenarioFault};
+pub use geometry::{BOUNDARY_TOLERANCE, DISC_POLYGON_CORNERS, Footprint, GRAVITY, Shape};
+pub use load::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML};
+pub use validate::{FRICTION_RANGE, MAX_OBJECTS, MAX_ROOM_SIDE, Violation};
 
 use serde::{Deserialize, Serialize};
 
