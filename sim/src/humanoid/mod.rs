@@ -17,7 +17,7 @@ use crate::world::build::groups;
 use crate::world::convert::{iso_from_pose, pose_from_iso};
 use arm::Arm;
 use head::Head;
-use walk::{Walk, WalkParams};
+use walk::{Rates, Walk, WalkParams};
 
 /// Height of the head's pan/tilt centre above the floor (m).
 pub const HEAD_HEIGHT: f64 = 1.4;
@@ -68,6 +68,7 @@ pub struct Humanoid {
     parts: Parts,
     base: Isometry2<f64>,
     walk: Walk,
+    rates: Rates,
     params: WalkParams,
     head: Head,
     arm: Arm,
@@ -168,6 +169,7 @@ impl Humanoid {
             },
             base,
             walk: Walk::Idle(None),
+            rates: Rates::default(),
             params: WalkParams {
                 speed: spec.walk_speed,
                 turn_rate: TURN_RATE,
@@ -239,6 +241,7 @@ impl Humanoid {
     /// Stops walking at once (a kinematic body can).
     pub fn stop_walk(&mut self) {
         if !matches!(self.walk, Walk::Idle(_)) {
+            self.rates = Rates::default();
             self.walk = Walk::Idle(Some(nudge_executive::robot::WalkOutcome::Stopped));
         }
     }
@@ -279,7 +282,14 @@ impl Humanoid {
     /// Moves walk, head and arm by `dt` seconds and sets the kinematic targets of body and wrist.
     pub fn pre_step(&mut self, dt: f64, physics: &mut PhysicsWorld) {
         let moving = self.is_moving();
-        self.base = walk::step(&mut self.walk, self.base, &self.params, dt, physics);
+        self.base = walk::step(
+            &mut self.walk,
+            &mut self.rates,
+            self.base,
+            &self.params,
+            dt,
+            physics,
+        );
         self.head.step(dt);
         self.arm.step(dt);
         if !moving {

@@ -45,6 +45,30 @@ pub struct WalkParams {
     pub margin: f64,
 }
 
+/// The base's current linear and turning speeds, which ramp up and down (the wrist and the hand move
+/// with the base; a step change of speed would shake the hand on its compliant wrist).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Rates {
+    /// Forward speed (m/s).
+    pub linear: f64,
+    /// Turning speed magnitude (rad/s).
+    pub angular: f64,
+}
+
+/// Linear acceleration of the base (m/s²).
+pub const LINEAR_ACCEL: f64 = 0.5;
+/// Angular acceleration of the base (rad/s²).
+pub const ANGULAR_ACCEL: f64 = 1.0;
+
+/// The next speed of a motion that may accelerate at `accel` up to `max` and must stop within `remaining`.
+pub fn ramp(current: f64, max: f64, accel: f64, remaining: f64, dt: f64) -> f64 {
+    let v = (current + accel * dt)
+        .min(max)
+        .min((2.0 * accel * remaining).sqrt());
+    // Never stall just short of the end.
+    v.max((accel * dt).min(max))
+}
+
 /// Wraps an angle to (−π, π].
 pub fn wrap(a: f64) -> f64 {
     let w = (a + PI).rem_euclid(2.0 * PI) - PI;
@@ -54,6 +78,7 @@ pub fn wrap(a: f64) -> f64 {
 /// One step of `dt` seconds: the new base pose, and the walk's new state.
 pub fn step(
     walk: &mut Walk,
+    rates: &mut Rates,
     base: Isometry2<f64>,
     p: &WalkParams,
     dt: f64,
@@ -61,12 +86,18 @@ pub fn step(
 ) -> Isometry2<f64> {
     let (mut pos, mut yaw) = (base.translation.vector, base.rotation.angle());
     match walk {
-        Walk::Idle(_) => return base,
+        Walk::Idle(_) => {
+            *rates = Rates::default();
+            return base;
+        }
         Walk::Turn(target) => {
             let err = wrap(*target - yaw);
-            yaw += err.clamp(-p.turn_rate * dt, p.turn_rate * dt);
-            if err.abs() <= p.turn_rate * dt {
+            rates.angular = ramp(rates.angular, p.turn_rate, ANGULAR_ACCEL, err.abs(), dt);
+            let turn = rates.angular * dt;
+            yaw += err.clamp(-turn, turn);
+            if err.abs() <= turn {
                 yaw = *target;
+                *rates = Rates::default();
                 *walk = Walk::Idle(Some(WalkOutcome::Arrived));
             }
         }
@@ -78,18 +109,38 @@ pub fn step(
                 points.pop_front();
             }
             let Some(next) = points.front().copied() else {
+                *rates = Rates::default();
                 *walk = Walk::Idle(Some(WalkOutcome::Arrived));
                 return base;
             };
             let to = next.coords - pos;
             let dist = to.norm();
             let err = wrap(to.y.atan2(to.x) - yaw);
-            yaw += err.clamp(-p.turn_rate * dt, p.turn_rate * dt);
-            if err.abs() <= TURN_IN_PLACE {
-                let wanted = to / dist * (p.speed * dt).min(dist);
+            if err.abs() > TURN_IN_PLACE && rates.linear > 0.0 {
+                // Facing away from the next waypoint while moving: brake first.
+                rates.linear = (rates.linear - LINEAR_ACCEL * dt).max(0.0);
+                let wanted = Vector2::new(yaw.cos(), yaw.sin()) * (rates.linear * dt);
                 let (allowed, blocked) = cast(pos, wanted, p, world);
                 pos += allowed;
                 if blocked {
+                    *rates = Rates::default();
+                    *walk = Walk::Idle(Some(WalkOutcome::Blocked {
+                        at: Isometry2::new(pos, yaw),
+                    }));
+                }
+            } else if err.abs() > TURN_IN_PLACE {
+                rates.angular = ramp(rates.angular, p.turn_rate, ANGULAR_ACCEL, err.abs(), dt);
+                yaw += err.clamp(-rates.angular * dt, rates.angular * dt);
+            } else {
+                // Small heading errors are steered out while walking.
+                rates.angular = 0.0;
+                yaw += err.clamp(-p.turn_rate * dt, p.turn_rate * dt);
+                rates.linear = ramp(rates.linear, p.speed, LINEAR_ACCEL, dist, dt);
+                let wanted = to / dist * (rates.linear * dt).min(dist);
+                let (allowed, blocked) = cast(pos, wanted, p, world);
+                pos += allowed;
+                if blocked {
+                    *rates = Rates::default();
                     *walk = Walk::Idle(Some(WalkOutcome::Blocked {
                         at: Isometry2::new(pos, yaw),
                     }));

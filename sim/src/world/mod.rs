@@ -101,6 +101,9 @@ impl World {
         let mut physics = PhysicsWorld::new();
         physics.gravity = Vector::new(0.0, 0.0, -9.81);
         physics.integration_parameters.dt = (COARSE_STEP_US as f64 * 1.0e-6) as f32;
+        // One Coulomb cone per contact point: the simplified model under-reads a sliding chair's
+        // friction (μ m g is what the push test measures).
+        physics.integration_parameters.friction_model = FrictionModel::Coulomb;
         let mut surfaces = HashMap::new();
         build::build_room(room, &mut physics.colliders, &mut surfaces);
         let mut objects = Vec::with_capacity(scenario.objects.len());
@@ -179,6 +182,12 @@ impl World {
     /// The whole rapier world (broad phase and narrow phase for scene queries).
     pub fn physics(&self) -> &PhysicsWorld {
         &self.physics
+    }
+
+    /// The whole rapier world, mutably: for tests and scripted disturbances. Moving bodies behind the
+    /// world's back is the caller's responsibility.
+    pub fn physics_mut(&mut self) -> &mut PhysicsWorld {
+        &mut self.physics
     }
 
     /// Appearance and owner of a collider.
