@@ -6,3 +6,5 @@
 #![warn(missing_docs)]
 
 pub mod scenario;
+pub mod sensors;
+pub mod surface;

@@ -1,0 +1,3 @@
+//! Sensor models: what the simulated robot perceives.
+
+pub mod colour_range;
