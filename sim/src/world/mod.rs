@@ -190,6 +190,11 @@ impl World {
         &mut self.physics
     }
 
+    /// Appearance and owner of every collider.
+    pub fn surfaces(&self) -> &HashMap<ColliderHandle, Surface> {
+        &self.surfaces
+    }
+
     /// Appearance and owner of a collider.
     pub fn surface(&self, handle: ColliderHandle) -> Option<Surface> {
         self.surfaces.get(&handle).copied()
