@@ -1,0 +1,167 @@
+//! One full 176 × 144 colour range frame in the paper's room: floor, four walls (6 × 3.6 m, 2 m
+//! high), a table and two chairs built as compounds, seen from the robot's start with the head tilted
+//! down. The scene is built with rapier directly so the bench does not depend on the world builder.
+#![allow(missing_docs)]
+
+use std::collections::HashMap;
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+use nudge_sim::scenario::Texture;
+use nudge_sim::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, SensorScene};
+use nudge_sim::surface::{Owner, Surface};
+use rapier3d::prelude::*;
+
+struct Room {
+    world: PhysicsWorld,
+    surfaces: HashMap<ColliderHandle, Surface>,
+}
+
+impl Room {
+    fn add(&mut self, body: RigidBodyBuilder, collider: ColliderBuilder, surface: Surface) {
+        let (_, c) = self.world.insert(body, collider);
+        self.surfaces.insert(c, surface);
+    }
+}
+
+fn cuboid_part(centre: [f32; 3], half: [f32; 3]) -> (Pose, SharedShape) {
+    (
+        Pose::from_translation(Vector::new(centre[0], centre[1], centre[2])),
+        SharedShape::cuboid(half[0], half[1], half[2]),
+    )
+}
+
+/// Four legs of half width `leg` under a top of half extents `hx × hy` whose underside is at `height`.
+fn legs(hx: f32, hy: f32, height: f32, leg: f32) -> Vec<(Pose, SharedShape)> {
+    let mut parts = Vec::new();
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            parts.push(cuboid_part(
+                [sx * (hx - leg), sy * (hy - leg), height / 2.0],
+                [leg, leg, height / 2.0],
+            ));
+        }
+    }
+    parts
+}
+
+fn room() -> Room {
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::new(0.0, 0.0, -9.81);
+    let mut room = Room {
+        world,
+        surfaces: HashMap::new(),
+    };
+    let plain = |colour, owner| Surface {
+        colour,
+        texture: Texture::Plain,
+        owner,
+    };
+    let wall = [225, 222, 210];
+    let fixed_at =
+        |x: f32, y: f32, z: f32| RigidBodyBuilder::fixed().translation(Vector::new(x, y, z));
+
+    room.add(
+        fixed_at(3.0, 1.8, -0.05),
+        ColliderBuilder::cuboid(3.0, 1.8, 0.05),
+        plain([150, 150, 140], Owner::Floor),
+    );
+    for (x, y, hx, hy) in [
+        (3.0, -0.05, 3.1, 0.05),
+        (3.0, 3.65, 3.1, 0.05),
+        (-0.05, 1.8, 0.05, 1.8),
+        (6.05, 1.8, 0.05, 1.8),
+    ] {
+        room.add(
+            fixed_at(x, y, 1.0),
+            ColliderBuilder::cuboid(hx, hy, 1.0),
+            plain(wall, Owner::Wall),
+        );
+    }
+
+    // Table 1.2 × 0.8 × 0.72 turned 90°: 0.8 along x, 1.2 along y.
+    let mut table = legs(0.4, 0.6, 0.68, 0.025);
+    table.push(cuboid_part([0.0, 0.0, 0.70], [0.4, 0.6, 0.02]));
+    room.add(
+        RigidBodyBuilder::dynamic().translation(Vector::new(3.0, 1.8, 0.0)),
+        ColliderBuilder::compound(table),
+        Surface {
+            colour: [140, 90, 50],
+            texture: Texture::Stripes,
+            owner: Owner::Object(0),
+        },
+    );
+
+    // Chairs 0.5 × 0.5, seat at 0.45 m, back up to 0.85 m on the +x side.
+    for (i, y) in [(1, 0.85), (2, 2.75)] {
+        let mut chair = legs(0.25, 0.25, 0.43, 0.02);
+        chair.push(cuboid_part([0.0, 0.0, 0.44], [0.25, 0.25, 0.01]));
+        chair.push(cuboid_part([0.23, 0.0, 0.65], [0.02, 0.25, 0.20]));
+        room.add(
+            RigidBodyBuilder::dynamic().translation(Vector::new(3.8, y, 0.0)),
+            ColliderBuilder::compound(chair),
+            Surface {
+                colour: [60, 90, 200],
+                texture: Texture::Checker,
+                owner: Owner::Object(i),
+            },
+        );
+    }
+
+    room.add(
+        fixed_at(1.6, 2.9, 0.005),
+        ColliderBuilder::cuboid(0.3, 0.2, 0.005),
+        plain([180, 40, 40], Owner::Object(3)),
+    );
+
+    room.world.detect_collisions(&(), &());
+    room
+}
+
+fn bench_frame(c: &mut Criterion) {
+    let room = room();
+    let sensor = ColourRangeSensor::new(ColourRangeConfig::default());
+    let lookup = |h: ColliderHandle| room.surfaces.get(&h).copied();
+    let scene = SensorScene {
+        bodies: &room.world.bodies,
+        colliders: &room.world.colliders,
+        broad_phase: &room.world.broad_phase,
+        surface: &lookup,
+        texture_seed: 1,
+        exclude: None,
+    };
+    // The robot's start, head at 1.4 m looking along +x, tilted 20° down.
+    let pose = Isometry3::from_parts(
+        Translation3::new(0.6, 1.8, 1.4),
+        UnitQuaternion::from_euler_angles(0.0, 20f64.to_radians(), 0.0),
+    );
+    let valid = sensor.capture(&scene, &pose, 0.0, 0).valid_count();
+    eprintln!(
+        "range_frame: {valid} of {} pixels return, {} rayon threads",
+        sensor.config().width * sensor.config().height,
+        rayon::current_num_threads()
+    );
+
+    let mut seed = 0u64;
+    c.bench_function("range_frame_176x144", |b| {
+        b.iter(|| {
+            seed += 1;
+            black_box(sensor.capture(&scene, black_box(&pose), 0.0, seed))
+        })
+    });
+
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    c.bench_function("range_frame_176x144_one_thread", |b| {
+        b.iter(|| {
+            seed += 1;
+            one_thread.install(|| black_box(sensor.capture(&scene, black_box(&pose), 0.0, seed)))
+        })
+    });
+}
+
+criterion_group!(benches, bench_frame);
+criterion_main!(benches);
