@@ -220,6 +220,13 @@ impl FloorModel {
 
     /// True when the point is floor (`d² ≤` the bound; non-finite input is never floor).
     pub fn is_floor(&self, z: f64, c: Rgb) -> bool {
+        // The height term alone already exceeds the bound for every point on an obstacle: skip the
+        // colour term there.
+        let dz = (z - self.mu_z) / self.sigma_z;
+        let dz2 = dz * dz;
+        if dz2.is_nan() || dz2 > self.max_mahalanobis_sq {
+            return false;
+        }
         let d2 = self.mahalanobis_sq(z, c);
         d2.is_finite() && d2 <= self.max_mahalanobis_sq
     }
@@ -236,25 +243,62 @@ impl FloorModel {
 
     /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's frame.
     pub fn split(&self, cloud: &ColourCloud) -> (ColourCloud, ColourCloud) {
-        let flags = self.classify(cloud);
-        let frame = cloud.frame();
-        let mut floor = ColourCloud::empty(frame, *cloud.sensor_pose(), cloud.stamp());
-        let mut rest =
-            ColourCloud::with_capacity(frame, *cloud.sensor_pose(), cloud.stamp(), cloud.len() / 2);
-        for (i, p, c) in cloud.iter_valid() {
-            if flags[i] {
-                floor.push(p, c);
-            } else {
-                rest.push(p, c);
-            }
+        (self.select(cloud, true), self.select(cloud, false))
+    }
+
+    /// The valid points of `cloud` that are not floor (in the cloud's frame), in slot order.
+    pub fn non_floor(&self, cloud: &ColourCloud) -> ColourCloud {
+        self.select(cloud, false)
+    }
+
+    /// The valid points whose floor flag equals `floor`, filtered in parallel over fixed chunks and
+    /// joined in order (deterministic).
+    fn select(&self, cloud: &ColourCloud, floor: bool) -> ColourCloud {
+        const CHUNK: usize = 16_384;
+        let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
+        let n = cloud.len();
+        let parts: Vec<Vec<usize>> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|k| {
+                (k * CHUNK..((k + 1) * CHUNK).min(n))
+                    .filter(|&i| {
+                        xs[i].is_finite()
+                            && ys[i].is_finite()
+                            && zs[i].is_finite()
+                            && self.is_floor(f64::from(zs[i]), cs[i]) == floor
+                    })
+                    .collect()
+            })
+            .collect();
+        let total: usize = parts.iter().map(Vec::len).sum();
+        let (mut x, mut y, mut z, mut rgb) = (
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+        );
+        for &i in parts.iter().flatten() {
+            x.push(xs[i]);
+            y.push(ys[i]);
+            z.push(zs[i]);
+            rgb.push(cs[i]);
         }
-        (floor, rest)
+        ColourCloud::from_arrays(
+            x,
+            y,
+            z,
+            rgb,
+            cloud.frame(),
+            *cloud.sensor_pose(),
+            cloud.stamp(),
+        )
+        .unwrap_or_else(|| ColourCloud::empty(cloud.frame(), *cloud.sensor_pose(), cloud.stamp()))
     }
 }
 
 /// The non-floor points of a map-frame cloud (valid points only).
 pub fn remove_floor(cloud: &ColourCloud, model: &FloorModel) -> ColourCloud {
-    model.split(cloud).1
+    model.non_floor(cloud)
 }
 
 fn colour_vector(c: Rgb) -> Vector3<f64> {

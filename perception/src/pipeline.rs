@@ -75,7 +75,7 @@ pub fn detect(
         return Err(PerceptionError::EmptyCloud);
     }
     let floor = FloorModel::learn(fused, base_pose, &config.floor)?;
-    let obstacles = floor.split(fused).1;
+    let obstacles = floor.non_floor(fused);
     let centre = Point2::from(base_pose.translation.vector);
     let map = ElevationMap::build(&obstacles, floor.height(), centre, &config.elevation)?;
     let clusters = label(&map, &config.segment);
