@@ -169,7 +169,7 @@ fn geometry_alone_cannot_see_a_slide_along_a_flat_panel() {
         "geometric-only slide from 0: {slide:.1} mm ({:?})",
         r.translation_mm
     );
-    assert!(slide.abs() < 10.0, "geometric ICP read {slide} mm");
+    assert!(slide.abs() < 15.0, "geometric ICP read {slide} mm");
     let (slide, _) = panel_case(&IcpConfig::geometric_only(), 85.0);
     eprintln!("geometric-only slide from 85 mm: {slide:.1} mm");
     assert!(

@@ -21,6 +21,8 @@
 use nalgebra::{
     Isometry3, Matrix3, Matrix6, Point3, Translation3, UnitQuaternion, Vector3, Vector6,
 };
+use std::sync::OnceLock;
+
 use rayon::prelude::*;
 
 use crate::cloud::ColourCloud;
@@ -32,7 +34,7 @@ use crate::icp::result::IcpResult;
 #[derive(Clone, Debug, PartialEq)]
 pub struct IcpConfig {
     /// Greatest correspondence distance of each stage (m), coarse to fine. Default
-    /// [0.25, 0.15, 0.08, 0.04, 0.02, 0.01]: the first stage tolerates an initial guess ~20 cm off, the
+    /// [0.25, 0.12, 0.06, 0.03, 0.012]: the first stage tolerates an initial guess ~20 cm off, the
     /// last keeps only points within a few noise widths of the target surface.
     pub max_correspondence: Vec<f64>,
     /// Stages whose distance bound is above this (m) solve only the planar motion (x, y, yaw) and use
@@ -49,7 +51,7 @@ pub struct IcpConfig {
     /// horizontal direction (a flat face) and the photometric term is switched on for that stage.
     /// Default 0.05.
     pub flat_geometry_ratio: f64,
-    /// Most Gauss–Newton iterations per stage. Default 15.
+    /// Most Gauss–Newton iterations per stage. Default 12.
     pub max_iterations_per_stage: usize,
     /// Weight λ of the geometric term (the photometric one gets 1 − λ). Default 0.968 (Park et al.'s
     /// value, with intensities in 0–1 and distances in m).
@@ -59,7 +61,7 @@ pub struct IcpConfig {
     /// Neighbours for the target's normals and colour gradients. Default 12.
     pub neighbours: usize,
     /// Source points used in the fine stages (an even stride through the cloud beyond this).
-    /// Default 2000: residual noise averages out well below a millimetre at that count.
+    /// Default 1600: residual noise averages out well below a millimetre at that count.
     pub max_source_points: usize,
     /// Source points used in the coarse (planar) stages. Default 600: they only need to find the
     /// basin.
@@ -72,9 +74,9 @@ pub struct IcpConfig {
     pub huber_geometric: f64,
     /// Huber threshold of the photometric residual (intensity, 0–1). Default 0.1.
     pub huber_photometric: f64,
-    /// A stage ends when the update's translation is below this (m). Default 2e-5.
+    /// A stage ends when the update's translation is below this (m). Default 5e-5.
     pub converge_translation: f64,
-    /// … and its rotation below this (rad). Default 2e-5.
+    /// … and its rotation below this (rad). Default 5e-5.
     pub converge_rotation: f64,
     /// Fewest valid points per cloud. Default 20.
     pub min_points: usize,
@@ -85,21 +87,21 @@ pub struct IcpConfig {
 impl Default for IcpConfig {
     fn default() -> Self {
         Self {
-            max_correspondence: vec![0.25, 0.15, 0.08, 0.04, 0.02, 0.01],
+            max_correspondence: vec![0.25, 0.12, 0.06, 0.03, 0.012],
             planar_above: 0.05,
             degeneracy_ratio: 1e-3,
             flat_geometry_ratio: 0.05,
-            max_iterations_per_stage: 15,
+            max_iterations_per_stage: 12,
             lambda_geometric: 0.968,
             photometric: true,
             neighbours: 12,
-            max_source_points: 2000,
+            max_source_points: 1600,
             max_coarse_source_points: 600,
             max_target_points: 5000,
             huber_geometric: 0.005,
             huber_photometric: 0.1,
-            converge_translation: 2e-5,
-            converge_rotation: 2e-5,
+            converge_translation: 5e-5,
+            converge_rotation: 5e-5,
             min_points: 20,
             min_correspondences: 10,
         }
@@ -132,9 +134,10 @@ pub fn initial_from_centroids(
 /// The target side: points (centred), normals, intensities, colour gradients, and their k-d tree.
 struct Target {
     points: Vec<[f32; 3]>,
-    normals: Vec<Vector3<f64>>,
     intensity: Vec<f64>,
-    gradient: Vec<Vector3<f64>>,
+    local: Vec<OnceLock<(Vector3<f64>, Vector3<f64>)>>,
+    k: usize,
+    photometric: bool,
     tree: PointTree,
 }
 
@@ -259,7 +262,9 @@ fn centroid(points: &[Point3<f64>]) -> Point3<f64> {
 }
 
 /// Normals by principal components of the k nearest neighbours; colour gradients by least squares on
-/// the tangent plane (Park et al. eq. 10, with the gradient held orthogonal to the normal).
+/// the tangent plane (Park et al. eq. 10, with the gradient held orthogonal to the normal). Both are
+/// computed lazily, the first time a target point is a correspondence (most never are), and cached; the
+/// value is a pure function of the target, so laziness does not affect determinism.
 fn prepare_target(
     points: &[Point3<f64>],
     intensity: &[f64],
@@ -274,48 +279,59 @@ fn prepare_target(
         })
         .collect();
     let tree = PointTree::new(&centred);
-    let k = config.neighbours.max(3);
-    let local: Vec<(Vector3<f64>, Vector3<f64>)> = centred
-        .par_iter()
-        .enumerate()
-        .with_min_len(256)
-        .map(|(i, q)| {
-            let nn = tree.nearest_k(q, k);
-            let at = |j: usize| {
-                let p = centred[j];
-                Vector3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
-            };
-            let here = at(i);
-            let mean: Vector3<f64> =
-                nn.iter().map(|&(j, _)| at(j)).sum::<Vector3<f64>>() / nn.len().max(1) as f64;
-            let mut cov = Matrix3::zeros();
-            for &(j, _) in &nn {
-                let d = at(j) - mean;
-                cov += d * d.transpose();
-            }
-            let eig = cov.symmetric_eigen();
-            let smallest = eig.eigenvalues.imin();
-            let normal = eig.eigenvectors.column(smallest).into_owned();
-            let normal = if normal.norm() > 0.0 {
-                normal.normalize()
-            } else {
-                Vector3::z()
-            };
-            let gradient = if config.photometric {
-                colour_gradient(here, intensity[i], &normal, &nn, &at, intensity)
-            } else {
-                Vector3::zeros()
-            };
-            (normal, gradient)
-        })
-        .collect();
-    let (normals, gradient) = local.into_iter().unzip();
+    let local = (0..centred.len()).map(|_| OnceLock::new()).collect();
     Target {
         points: centred,
-        normals,
         intensity: intensity.to_vec(),
-        gradient,
+        local,
+        k: config.neighbours.max(3),
+        photometric: config.photometric,
         tree,
+    }
+}
+
+impl Target {
+    /// (normal, colour gradient) of target point `i`.
+    fn local(&self, i: usize) -> &(Vector3<f64>, Vector3<f64>) {
+        self.local[i].get_or_init(|| self.compute_local(i))
+    }
+
+    fn at(&self, j: usize) -> Vector3<f64> {
+        let p = self.points[j];
+        Vector3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
+    }
+
+    fn compute_local(&self, i: usize) -> (Vector3<f64>, Vector3<f64>) {
+        let nn = self.tree.nearest_k(&self.points[i], self.k);
+        let here = self.at(i);
+        let mean: Vector3<f64> =
+            nn.iter().map(|&(j, _)| self.at(j)).sum::<Vector3<f64>>() / nn.len().max(1) as f64;
+        let mut cov = Matrix3::zeros();
+        for &(j, _) in &nn {
+            let d = self.at(j) - mean;
+            cov += d * d.transpose();
+        }
+        let eig = cov.symmetric_eigen();
+        let smallest = eig.eigenvalues.imin();
+        let normal = eig.eigenvectors.column(smallest).into_owned();
+        let normal = if normal.norm() > 0.0 {
+            normal.normalize()
+        } else {
+            Vector3::z()
+        };
+        let gradient = if self.photometric {
+            colour_gradient(
+                here,
+                self.intensity[i],
+                &normal,
+                &nn,
+                &|j| self.at(j),
+                &self.intensity,
+            )
+        } else {
+            Vector3::zeros()
+        };
+        (normal, gradient)
     }
 }
 
@@ -365,6 +381,8 @@ fn linearise(
     } else {
         (1.0, 0.0)
     };
+    let rot = motion.rotation.to_rotation_matrix().into_inner();
+    let shift = motion.translation.vector;
     let partial: Vec<System> = src
         .par_chunks(CHUNK)
         .enumerate()
@@ -376,7 +394,7 @@ fn linearise(
             };
             for (o, p) in chunk.iter().enumerate() {
                 let i = c * CHUNK + o;
-                let ps = motion * Point3::from(*p);
+                let ps = Point3::from(rot * p + shift);
                 let q32 = [ps.x as f32, ps.y as f32, ps.z as f32];
                 let Some((j, d2)) = target.tree.nearest(&q32) else {
                     continue;
@@ -386,7 +404,7 @@ fn linearise(
                 }
                 let t = target.points[j];
                 let vt = Vector3::new(f64::from(t[0]), f64::from(t[1]), f64::from(t[2]));
-                let n = target.normals[j];
+                let (n, d) = *target.local(j);
                 let vs = ps.coords;
                 let diff = vs - vt;
                 // Geometric: point-to-plane.
@@ -399,7 +417,6 @@ fn linearise(
                 s.jtr += jg * (rg * wg);
                 if lp > 0.0 {
                     // Photometric: source intensity vs the target's, continued along its tangent plane.
-                    let d = target.gradient[j];
                     let proj = vs - n * rg;
                     let predicted = target.intensity[j] + d.dot(&(proj - vt));
                     let rc = src_int[i] - predicted;
