@@ -157,3 +157,19 @@ fn each_piece_of_furniture_is_exactly_one_prism() {
         assert_eq!(inside, 1, "{name}: {inside} prisms inside");
     }
 }
+
+#[test]
+fn detection_does_not_depend_on_the_thread_count() {
+    // Invariant: one thread and four threads give the same prisms, bit for bit.
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool")
+        .install(|| detect_room(8, &[]));
+    let many = rayon::ThreadPoolBuilder::new()
+        .num_threads(4)
+        .build()
+        .expect("a four-thread pool")
+        .install(|| detect_room(8, &[]));
+    assert_eq!(one, many);
+}
