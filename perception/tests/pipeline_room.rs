@@ -173,3 +173,97 @@ fn detection_does_not_depend_on_the_thread_count() {
         .install(|| detect_room(8, &[]));
     assert_eq!(one, many);
 }
+
+#[test]
+fn an_overhang_keeps_its_lowest_point_above_the_floor() {
+    // Invariant: a shelf floating 0.8 m up gives a prism with z_min ≈ 0.8 (the space below is free
+    // for anything lower), and z_max at its top.
+    let mut scene = kakiuchi_room();
+    scene.objects.push(common::SynthObject {
+        name: "shelf",
+        pose: planar(2.0, 0.8, 0.0),
+        boxes: vec![common::SynthBox {
+            pose: nalgebra::Isometry3::translation(0.0, 0.0, 0.82),
+            half: nalgebra::Vector3::new(0.2, 0.3, 0.02),
+            texture: common::Texture::Uniform([90, 60, 160]),
+        }],
+    });
+    let clouds = look_around(&scene, &planar(0.6, 1.8, 0.0), 9);
+    let prisms = detect_objects(
+        &fuse(&clouds),
+        &start_pose(),
+        &PerceptionConfig::default(),
+        &[],
+    )
+    .expect("floor in front");
+    let (shelf, iou) = best_match(&prisms, &rect(1.8, 2.2, 0.5, 1.1));
+    assert!(iou >= 0.7, "shelf IoU {iou}");
+    assert!(
+        (shelf.z_min - 0.80).abs() < 0.03,
+        "shelf bottom {}",
+        shelf.z_min
+    );
+    assert!(
+        (shelf.z_max - 0.84).abs() < 0.03,
+        "shelf top {}",
+        shelf.z_max
+    );
+}
+
+#[test]
+fn a_pushed_chair_keeps_its_id_when_its_icp_motion_is_applied_before_tracking() {
+    // Invariant: after chair-1 is pushed 0.8 m, colour ICP between its prism points before and after
+    // gives the push, and tracking the moved previous prisms keeps the chair's id.
+    let first = detect_room(10, &[]);
+    let (chair_before, _) = best_match(&first, &rect(3.55, 4.05, 0.6, 1.1));
+    let mut scene = kakiuchi_room();
+    scene.objects[2].pose = planar(4.6, 0.85, 0.0);
+    let clouds = look_around(&scene, &planar(0.6, 1.8, 0.0), 11);
+    let mut second = detect_objects(
+        &fuse(&clouds),
+        &start_pose(),
+        &PerceptionConfig::default(),
+        &first,
+    )
+    .expect("floor in front");
+    let chair_after_index = second
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (i, convex_iou(&p.footprint, &rect(4.35, 4.85, 0.6, 1.1))))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, _)| i)
+        .expect("prisms");
+    assert_ne!(
+        second[chair_after_index].id, chair_before.id,
+        "moved 0.8 m: no overlap"
+    );
+    let guess = nalgebra::Isometry3::translation(0.7, 0.0, 0.0);
+    let push = nudge_perception::colour_icp(
+        &chair_before.points,
+        &second[chair_after_index].points,
+        &guess,
+        &nudge_perception::IcpConfig::default(),
+    )
+    .expect("both clouds hold the chair");
+    eprintln!(
+        "chair push read {:?} mm, yaw {:.2}°",
+        push.translation_mm, push.yaw_deg
+    );
+    assert!(
+        (push.translation_mm.x - 800.0).abs() < 10.0,
+        "{:?}",
+        push.translation_mm
+    );
+    let moved: Vec<Prism> = first
+        .iter()
+        .map(|p| {
+            if p.id == chair_before.id {
+                p.transformed(&push.transform)
+            } else {
+                p.clone()
+            }
+        })
+        .collect();
+    nudge_perception::track_ids(&moved, &mut second);
+    assert_eq!(second[chair_after_index].id, chair_before.id);
+}
