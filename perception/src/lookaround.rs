@@ -27,6 +27,18 @@ pub struct LookAroundConfig {
     pub pans_deg: Vec<f64>,
 }
 
+impl HeadView {
+    /// Tilt in radians (positive looks down).
+    pub fn tilt_rad(&self) -> f64 {
+        self.tilt_deg.to_radians()
+    }
+
+    /// Pan in radians (positive looks left).
+    pub fn pan_rad(&self) -> f64 {
+        self.pan_deg.to_radians()
+    }
+}
+
 impl Default for LookAroundConfig {
     fn default() -> Self {
         Self {
