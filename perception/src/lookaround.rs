@@ -69,8 +69,6 @@ impl LookAroundConfig {
 /// cloud, slot by slot) whatever the thread count. The result carries the first cloud's sensor pose and
 /// the latest stamp; no input gives an empty cloud.
 pub fn fuse(clouds: &[ColourCloud]) -> ColourCloud {
-    let parts: Vec<Soa> = clouds.par_iter().map(to_map_soa).collect();
-    let total = parts.iter().map(|p| p.x.len()).sum();
     let pose = clouds
         .first()
         .map(|c| *c.sensor_pose())
@@ -81,39 +79,50 @@ pub fn fuse(clouds: &[ColourCloud]) -> ColourCloud {
         .filter(|s| s.is_finite())
         .fold(f64::NEG_INFINITY, f64::max);
     let stamp = if stamp.is_finite() { stamp } else { 0.0 };
-    let mut all = Soa::with_capacity(total);
-    for part in &parts {
-        all.x.extend_from_slice(&part.x);
-        all.y.extend_from_slice(&part.y);
-        all.z.extend_from_slice(&part.z);
-        all.rgb.extend_from_slice(&part.rgb);
+    // Count first, then let each cloud fill its own slice of the output in parallel: no intermediate
+    // buffers, and the output order is cloud by cloud, slot by slot, whatever the thread count.
+    let counts: Vec<usize> = clouds.par_iter().map(valid_slots).collect();
+    let total: usize = counts.iter().sum();
+    let mut x = vec![0f32; total];
+    let mut y = vec![0f32; total];
+    let mut z = vec![0f32; total];
+    let mut rgb = vec![[0u8; 3]; total];
+    let mut jobs = Vec::with_capacity(clouds.len());
+    let (mut xr, mut yr, mut zr, mut cr) = (&mut x[..], &mut y[..], &mut z[..], &mut rgb[..]);
+    for (cloud, &n) in clouds.iter().zip(&counts) {
+        let (xa, xb) = xr.split_at_mut(n);
+        let (ya, yb) = yr.split_at_mut(n);
+        let (za, zb) = zr.split_at_mut(n);
+        let (ca, cb) = cr.split_at_mut(n);
+        jobs.push((cloud, xa, ya, za, ca));
+        (xr, yr, zr, cr) = (xb, yb, zb, cb);
     }
-    ColourCloud::from_arrays(all.x, all.y, all.z, all.rgb, CloudFrame::Map, pose, stamp)
+    jobs.into_par_iter()
+        .for_each(|(cloud, xo, yo, zo, co)| to_map_into(cloud, xo, yo, zo, co));
+    ColourCloud::from_arrays(x, y, z, rgb, CloudFrame::Map, pose, stamp)
         .unwrap_or_else(|| ColourCloud::empty(CloudFrame::Map, pose, stamp))
 }
 
-/// Bare arrays of one cloud's valid map-frame points.
-struct Soa {
-    x: Vec<f32>,
-    y: Vec<f32>,
-    z: Vec<f32>,
-    rgb: Vec<crate::cloud::Rgb>,
+/// Slots of `cloud` with finite coordinates.
+fn valid_slots(cloud: &ColourCloud) -> usize {
+    let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
+    xs.iter()
+        .zip(ys)
+        .zip(zs)
+        .filter(|((x, y), z)| x.is_finite() && y.is_finite() && z.is_finite())
+        .count()
 }
 
-impl Soa {
-    fn with_capacity(n: usize) -> Self {
-        Self {
-            x: Vec::with_capacity(n),
-            y: Vec::with_capacity(n),
-            z: Vec::with_capacity(n),
-            rgb: Vec::with_capacity(n),
-        }
-    }
-}
-
-/// The valid points of `cloud` in the map frame: one tight pass with a rotation matrix (faster than
-/// applying the quaternion point by point, which is what [`ColourCloud::to_map`] does).
-fn to_map_soa(cloud: &ColourCloud) -> Soa {
+/// Writes the valid points of `cloud` in the map frame into the given slices (exactly
+/// [`valid_slots`] long): one tight pass with a rotation matrix (faster than applying the quaternion
+/// point by point, which is what [`ColourCloud::to_map`] does).
+fn to_map_into(
+    cloud: &ColourCloud,
+    xo: &mut [f32],
+    yo: &mut [f32],
+    zo: &mut [f32],
+    co: &mut [crate::cloud::Rgb],
+) {
     let (r, t) = match cloud.frame() {
         CloudFrame::Sensor => {
             let pose = cloud.sensor_pose().cast::<f32>();
@@ -125,22 +134,18 @@ fn to_map_soa(cloud: &ColourCloud) -> Soa {
         CloudFrame::Map => (nalgebra::Matrix3::identity(), nalgebra::Vector3::zeros()),
     };
     let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
-    let n = xs.len().min(ys.len()).min(zs.len()).min(cs.len());
-    let mut out = Soa::with_capacity(n);
-    for i in 0..n {
+    let mut k = 0;
+    for i in 0..xs.len() {
         let (x, y, z) = (xs[i], ys[i], zs[i]);
-        if !(x.is_finite() && y.is_finite() && z.is_finite()) {
+        if !(x.is_finite() && y.is_finite() && z.is_finite()) || k >= xo.len() {
             continue;
         }
-        out.x
-            .push(r[(0, 0)] * x + r[(0, 1)] * y + r[(0, 2)] * z + t.x);
-        out.y
-            .push(r[(1, 0)] * x + r[(1, 1)] * y + r[(1, 2)] * z + t.y);
-        out.z
-            .push(r[(2, 0)] * x + r[(2, 1)] * y + r[(2, 2)] * z + t.z);
-        out.rgb.push(cs[i]);
+        xo[k] = r[(0, 0)] * x + r[(0, 1)] * y + r[(0, 2)] * z + t.x;
+        yo[k] = r[(1, 0)] * x + r[(1, 1)] * y + r[(1, 2)] * z + t.y;
+        zo[k] = r[(2, 0)] * x + r[(2, 1)] * y + r[(2, 2)] * z + t.z;
+        co[k] = cs.get(i).copied().unwrap_or([0, 0, 0]);
+        k += 1;
     }
-    out
 }
 
 #[cfg(test)]
