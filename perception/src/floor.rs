@@ -36,6 +36,13 @@ pub struct FloorConfig {
     pub patch_side: f64,
     /// Fewest points in the square to fit the model. Default 30.
     pub min_patch_points: usize,
+    /// Where the floor is expected in the map frame (m): the base frame's z = 0, since the robot stands
+    /// on it. Default 0.0.
+    pub expected_height: f64,
+    /// Only square points within this of `expected_height` (m) are taken as known floor. Default 0.05:
+    /// when the robot stands at a push pose the object itself may reach into the square, and its points
+    /// must not teach the model that the floor is 0.45 m high and blue.
+    pub patch_height_tolerance: f64,
     /// Lower bound on the height standard deviation σ_z (m). Default 0.006 (range noise of the far floor).
     pub min_sigma_z: f64,
     /// Variance added to each colour channel's variance (8-bit levels²). Default 25 (σ ≥ 5 levels), so a
@@ -53,6 +60,8 @@ impl Default for FloorConfig {
             patch_ahead: 1.0,
             patch_side: 0.4,
             min_patch_points: 30,
+            expected_height: 0.0,
+            patch_height_tolerance: 0.05,
             min_sigma_z: 0.006,
             colour_variance_floor: 25.0,
             max_mahalanobis_sq: 18.47,
@@ -65,6 +74,9 @@ impl FloorConfig {
         let ok = self.patch_ahead.is_finite()
             && self.patch_side.is_finite()
             && self.patch_side > 0.0
+            && self.expected_height.is_finite()
+            && self.patch_height_tolerance.is_finite()
+            && self.patch_height_tolerance > 0.0
             && self.min_sigma_z.is_finite()
             && self.min_sigma_z > 0.0
             && self.colour_variance_floor.is_finite()
@@ -96,7 +108,7 @@ pub struct FloorModel {
 
 impl FloorModel {
     /// Learns the floor from the points of `cloud` (map frame) in the square in front of the robot at
-    /// `base_pose` (map frame, planar).
+    /// `base_pose` (map frame, planar) that lie near the expected floor height.
     ///
     /// Errors: no valid point in the square, fewer than [`FloorConfig::min_patch_points`], a non-finite
     /// pose or an out-of-range config.
@@ -116,7 +128,15 @@ impl FloorModel {
         let map_to_base = base_pose.inverse();
         let half = config.patch_side / 2.0;
         let (near, far) = (config.patch_ahead - half, config.patch_ahead + half);
-        let in_patch = |x: f32, y: f32| {
+        let (z_lo, z_hi) = (
+            config.expected_height - config.patch_height_tolerance,
+            config.expected_height + config.patch_height_tolerance,
+        );
+        let in_patch = |x: f32, y: f32, z: f32| {
+            let z = f64::from(z);
+            if z < z_lo || z > z_hi {
+                return false;
+            }
             let b = map_to_base * Point2::new(f64::from(x), f64::from(y));
             b.x >= near && b.x <= far && b.y.abs() <= half
         };
@@ -125,7 +145,7 @@ impl FloorModel {
         let mut sum_c = Vector3::zeros();
         let mut samples: Vec<(f64, Vector3<f64>)> = Vec::new();
         for (_, p, c) in cloud.iter_valid() {
-            if in_patch(p.x, p.y) {
+            if in_patch(p.x, p.y, p.z) {
                 let cv = colour_vector(c);
                 n += 1;
                 sum_z += f64::from(p.z);

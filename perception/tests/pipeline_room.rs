@@ -267,3 +267,21 @@ fn a_pushed_chair_keeps_its_id_when_its_icp_motion_is_applied_before_tracking() 
     nudge_perception::track_ids(&moved, &mut second);
     assert_eq!(second[chair_after_index].id, chair_before.id);
 }
+
+#[test]
+fn at_the_push_pose_the_chair_in_the_floor_square_does_not_poison_the_floor() {
+    // Invariant: standing at (3.0, 0.55) facing +x, where chair-1 reaches into the known-floor square,
+    // the floor is still learned from floor points only and the chair is still an obstacle.
+    let scene = kakiuchi_room();
+    let clouds = look_around(&scene, &planar(3.0, 0.55, 0.0), 12);
+    let pose = Isometry2::new(Vector2::new(3.0, 0.55), 0.0);
+    let prisms = detect_objects(&fuse(&clouds), &pose, &PerceptionConfig::default(), &[])
+        .expect("floor in front");
+    let (chair, iou) = best_match(&prisms, &rect(3.55, 4.05, 0.6, 1.1));
+    eprintln!(
+        "chair-1 from the push pose: IoU {iou:.3}, top {:.3}",
+        chair.z_max
+    );
+    assert!(iou >= 0.6, "chair-1 IoU {iou}");
+    assert!((chair.z_max - 0.85).abs() < 0.04);
+}
