@@ -308,7 +308,7 @@ fn footprint_of(map: &ElevationMap, cells: &[u32], min_thickness: f64) -> Vec<Po
 
 /// Convex hull (parry2d) of xy points as a CCW f64 polygon; a degenerate set (one spot, a line) gets a
 /// rectangle `min_thickness` thick around it. Empty input gives an empty polygon.
-pub fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<f64>> {
+pub(crate) fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<f64>> {
     let Some(first) = pts.first() else {
         return Vec::new();
     };
