@@ -150,8 +150,8 @@ impl Tree {
         self.points[i]
     }
 
-    pub(crate) fn nearest(&self, q: &Point2<f64>) -> usize {
-        self.index.nearest(q, &self.points)
+    pub(crate) fn nearest(&mut self, q: &Point2<f64>) -> usize {
+        self.index.nearest(q)
     }
 
     pub(crate) fn add(&mut self, p: Point2<f64>, parent: usize) -> usize {

@@ -1,4 +1,6 @@
-//! Nearest neighbour among a tree's nodes: a uniform bucket grid searched ring by ring.
+//! Nearest neighbour among a tree's nodes: an incremental 2-d tree (no rebalancing; RRT nodes
+//! arrive in random order, which keeps it shallow) whose nodes also keep their subtree's bounding
+//! box, so queries far from every node (common early in RRT) prune whole subtrees at once.
 //!
 //! Ties go to the lowest node index, so the answer does not depend on the search order.
 
@@ -6,119 +8,114 @@ use nalgebra::Point2;
 
 use crate::space::Bounds;
 
-/// Below this many nodes a plain scan is faster than the grid.
-const SCAN_BELOW: usize = 48;
-/// Cells along the longer side of the bounds.
-const CELLS: usize = 48;
+const NONE: u32 = u32::MAX;
 
-/// A bucket grid over the sampling bounds.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
+struct KdNode {
+    point: [f64; 2],
+    item: u32,
+    children: [u32; 2],
+    /// Bounding box of this subtree: min x, min y, max x, max y.
+    bbox: [f64; 4],
+}
+
+impl KdNode {
+    /// Squared distance from `q` to this subtree's box (0 inside).
+    fn bound(&self, q: &[f64; 2]) -> f64 {
+        let dx = (self.bbox[0] - q[0]).max(0.0).max(q[0] - self.bbox[2]);
+        let dy = (self.bbox[1] - q[1]).max(0.0).max(q[1] - self.bbox[3]);
+        dx * dx + dy * dy
+    }
+}
+
+/// A 2-d tree over inserted positions.
+#[derive(Clone, Debug, Default)]
 pub struct NearestIndex {
-    min: Point2<f64>,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    buckets: Vec<Vec<u32>>,
-    count: usize,
+    nodes: Vec<KdNode>,
+    /// Search stack kept between queries to avoid an allocation per query.
+    stack: Vec<(u32, f64)>,
 }
 
 impl NearestIndex {
-    /// An empty index over `bounds`.
-    pub fn new(bounds: &Bounds) -> Self {
-        let size = bounds.size();
-        let cell = size.x.max(size.y) / CELLS as f64;
-        let nx = ((size.x / cell).ceil() as usize).clamp(1, CELLS);
-        let ny = ((size.y / cell).ceil() as usize).clamp(1, CELLS);
-        Self {
-            min: bounds.min(),
-            cell,
-            nx,
-            ny,
-            buckets: vec![Vec::new(); nx * ny],
-            count: 0,
-        }
+    /// An empty index (a k-d tree needs no bounds; the parameter keeps constructors uniform).
+    pub fn new(_bounds: &Bounds) -> Self {
+        Self::default()
     }
 
     /// Records node `i` at `p`.
     pub fn insert(&mut self, p: &Point2<f64>, i: usize) {
-        let (x, y) = self.cell_of(p);
-        self.buckets[y * self.nx + x].push(i as u32);
-        self.count += 1;
-    }
-
-    /// The index of the node of `points` nearest to `q` (ties: lowest index); `points` must be the
-    /// positions inserted, by index, and not empty.
-    pub fn nearest(&self, q: &Point2<f64>, points: &[Point2<f64>]) -> usize {
-        let better =
-            |d: f64, i: usize, best: (f64, usize)| d < best.0 || (d == best.0 && i < best.1);
-        if self.count < SCAN_BELOW {
-            let mut best = (f64::INFINITY, 0);
-            for (i, p) in points.iter().enumerate() {
-                let d = (p - q).norm_squared();
-                if better(d, i, best) {
-                    best = (d, i);
-                }
-            }
-            return best.1;
-        }
-        let (cx, cy) = self.cell_of(q);
-        let mut best = (f64::INFINITY, 0usize);
-        let max_ring = self.nx.max(self.ny);
-        for ring in 0..=max_ring {
-            // Every point in ring k is at least (k - 1) cells away from q.
-            let reach = (ring as f64 - 1.0).max(0.0) * self.cell;
-            if reach * reach > best.0 {
-                break;
-            }
-            self.for_ring(cx, cy, ring, |bucket| {
-                for &i in bucket {
-                    let i = i as usize;
-                    let d = (points[i] - q).norm_squared();
-                    if better(d, i, best) {
-                        best = (d, i);
-                    }
-                }
-            });
-        }
-        best.1
-    }
-
-    fn for_ring(&self, cx: usize, cy: usize, ring: usize, mut visit: impl FnMut(&[u32])) {
-        let (cx, cy, r) = (cx as isize, cy as isize, ring as isize);
-        let (nx, ny) = (self.nx as isize, self.ny as isize);
-        let mut cell = |x: isize, y: isize| {
-            if x >= 0 && y >= 0 && x < nx && y < ny {
-                visit(&self.buckets[(y * nx + x) as usize]);
-            }
-        };
-        if r == 0 {
-            cell(cx, cy);
+        let new = self.nodes.len() as u32;
+        self.nodes.push(KdNode {
+            point: [p.x, p.y],
+            item: i as u32,
+            children: [NONE, NONE],
+            bbox: [p.x, p.y, p.x, p.y],
+        });
+        if new == 0 {
             return;
         }
-        for x in (cx - r)..=(cx + r) {
-            cell(x, cy - r);
-            cell(x, cy + r);
-        }
-        for y in (cy - r + 1)..=(cy + r - 1) {
-            cell(cx - r, y);
-            cell(cx + r, y);
+        let mut at = 0usize;
+        let mut axis = 0;
+        loop {
+            let node = &mut self.nodes[at];
+            node.bbox = [
+                node.bbox[0].min(p.x),
+                node.bbox[1].min(p.y),
+                node.bbox[2].max(p.x),
+                node.bbox[3].max(p.y),
+            ];
+            let side = usize::from(p[axis] >= node.point[axis]);
+            let next = node.children[side];
+            if next == NONE {
+                node.children[side] = new;
+                return;
+            }
+            at = next as usize;
+            axis ^= 1;
         }
     }
 
-    fn cell_of(&self, p: &Point2<f64>) -> (usize, usize) {
-        let fx = ((p.x - self.min.x) / self.cell).floor();
-        let fy = ((p.y - self.min.y) / self.cell).floor();
-        let x = if fx.is_nan() {
-            0.0
-        } else {
-            fx.clamp(0.0, (self.nx - 1) as f64)
-        };
-        let y = if fy.is_nan() {
-            0.0
-        } else {
-            fy.clamp(0.0, (self.ny - 1) as f64)
-        };
-        (x as usize, y as usize)
+    /// The item of the inserted node nearest to `q` (ties: lowest item); 0 when empty.
+    pub fn nearest(&mut self, q: &Point2<f64>) -> usize {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        let q = [q.x, q.y];
+        let mut best = (f64::INFINITY, u32::MAX);
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
+        stack.push((0, 0.0));
+        while let Some((at, bound)) = stack.pop() {
+            if bound > best.0 {
+                continue;
+            }
+            let node = &self.nodes[at as usize];
+            let dx = node.point[0] - q[0];
+            let dy = node.point[1] - q[1];
+            let d = dx * dx + dy * dy;
+            if d < best.0 || (d == best.0 && node.item < best.1) {
+                best = (d, node.item);
+            }
+            let [c0, c1] = node.children;
+            let b0 = (c0 != NONE).then(|| self.nodes[c0 as usize].bound(&q));
+            let b1 = (c1 != NONE).then(|| self.nodes[c1 as usize].bound(&q));
+            // Push the farther child first so the nearer is searched first.
+            match (b0, b1) {
+                (Some(b0), Some(b1)) if b0 <= b1 => {
+                    stack.push((c1, b1));
+                    stack.push((c0, b0));
+                }
+                (Some(b0), Some(b1)) => {
+                    stack.push((c0, b0));
+                    stack.push((c1, b1));
+                }
+                (Some(b0), None) => stack.push((c0, b0)),
+                (None, Some(b1)) => stack.push((c1, b1)),
+                (None, None) => {}
+            }
+        }
+        self.stack = stack;
+        best.1 as usize
     }
 }
 
@@ -154,7 +151,7 @@ mod tests {
                 })
                 .map(|(i, _)| i)
                 .expect("not empty");
-            assert_eq!(index.nearest(&q, &points), scan);
+            assert_eq!(index.nearest(&q), scan);
         }
     }
 }
