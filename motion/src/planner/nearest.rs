@@ -1,25 +1,50 @@
-//! Nearest neighbour among a tree's nodes: an incremental 2-d tree (no rebalancing; RRT nodes
-//! arrive in random order, which keeps it shallow) whose nodes also keep their subtree's bounding
-//! box, so queries far from every node (common early in RRT) prune whole subtrees at once.
+//! Nearest neighbour among a tree's nodes: an incremental k-d tree with bucket leaves.
 //!
-//! Ties go to the lowest node index, so the answer does not depend on the search order.
+//! A full leaf splits at the median of its points along its wider side, so the tree adapts to the
+//! data even when points arrive in order along a line (as CONNECT adds them). Every node keeps its
+//! subtree's bounding box, so queries far from all points (common early in RRT) prune whole
+//! subtrees at once. Ties go to the lowest item, so the answer does not depend on the search order.
 
 use nalgebra::Point2;
 
 use crate::space::Bounds;
 
 const NONE: u32 = u32::MAX;
+/// Points per leaf before it splits.
+const BUCKET: usize = 12;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct KdNode {
-    point: [f64; 2],
-    item: u32,
-    children: [u32; 2],
     /// Bounding box of this subtree: min x, min y, max x, max y.
     bbox: [f64; 4],
+    axis: usize,
+    split: f64,
+    /// Children (below, at-or-above the split); `NONE` for a leaf.
+    children: [u32; 2],
+    /// A leaf's items.
+    items: Vec<u32>,
 }
 
 impl KdNode {
+    fn leaf(items: Vec<u32>, points: &[[f64; 2]]) -> Self {
+        let mut bbox = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for &i in &items {
+            grow(&mut bbox, &points[i as usize]);
+        }
+        Self {
+            bbox,
+            axis: 0,
+            split: 0.0,
+            children: [NONE, NONE],
+            items,
+        }
+    }
+
     /// Squared distance from `q` to this subtree's box (0 inside).
     fn bound(&self, q: &[f64; 2]) -> f64 {
         let dx = (self.bbox[0] - q[0]).max(0.0).max(q[0] - self.bbox[2]);
@@ -28,9 +53,17 @@ impl KdNode {
     }
 }
 
-/// A 2-d tree over inserted positions.
+fn grow(bbox: &mut [f64; 4], p: &[f64; 2]) {
+    bbox[0] = bbox[0].min(p[0]);
+    bbox[1] = bbox[1].min(p[1]);
+    bbox[2] = bbox[2].max(p[0]);
+    bbox[3] = bbox[3].max(p[1]);
+}
+
+/// A k-d tree over inserted positions, identified by the item given at insertion.
 #[derive(Clone, Debug, Default)]
 pub struct NearestIndex {
+    points: Vec<[f64; 2]>,
     nodes: Vec<KdNode>,
     /// Search stack kept between queries to avoid an allocation per query.
     stack: Vec<(u32, f64)>,
@@ -42,40 +75,63 @@ impl NearestIndex {
         Self::default()
     }
 
-    /// Records node `i` at `p`.
+    /// Records item `i` at `p`; items must be inserted as 0, 1, 2, …
     pub fn insert(&mut self, p: &Point2<f64>, i: usize) {
-        let new = self.nodes.len() as u32;
-        self.nodes.push(KdNode {
-            point: [p.x, p.y],
-            item: i as u32,
-            children: [NONE, NONE],
-            bbox: [p.x, p.y, p.x, p.y],
-        });
-        if new == 0 {
+        let q = [p.x, p.y];
+        debug_assert_eq!(i, self.points.len());
+        self.points.push(q);
+        let item = i as u32;
+        if self.nodes.is_empty() {
+            self.nodes.push(KdNode::leaf(vec![item], &self.points));
             return;
         }
         let mut at = 0usize;
-        let mut axis = 0;
         loop {
             let node = &mut self.nodes[at];
-            node.bbox = [
-                node.bbox[0].min(p.x),
-                node.bbox[1].min(p.y),
-                node.bbox[2].max(p.x),
-                node.bbox[3].max(p.y),
-            ];
-            let side = usize::from(p[axis] >= node.point[axis]);
-            let next = node.children[side];
-            if next == NONE {
-                node.children[side] = new;
+            grow(&mut node.bbox, &q);
+            if node.children[0] == NONE {
+                node.items.push(item);
+                if node.items.len() > BUCKET {
+                    self.split(at);
+                }
                 return;
             }
-            at = next as usize;
-            axis ^= 1;
+            at = node.children[usize::from(q[node.axis] >= node.split)] as usize;
         }
     }
 
-    /// The item of the inserted node nearest to `q` (ties: lowest item); 0 when empty.
+    /// Splits leaf `at` at the median of its points along its wider side (the other side when
+    /// all share one coordinate; never when all points coincide).
+    fn split(&mut self, at: usize) {
+        let bbox = self.nodes[at].bbox;
+        let wider = usize::from(bbox[3] - bbox[1] > bbox[2] - bbox[0]);
+        for axis in [wider, 1 - wider] {
+            let mut items = self.nodes[at].items.clone();
+            let points = &self.points;
+            items.sort_by(|a, b| {
+                points[*a as usize][axis]
+                    .total_cmp(&points[*b as usize][axis])
+                    .then(a.cmp(b))
+            });
+            let split = points[items[items.len() / 2] as usize][axis];
+            let cut = items.partition_point(|&i| points[i as usize][axis] < split);
+            if cut == 0 {
+                continue;
+            }
+            let upper = items.split_off(cut);
+            let below = self.nodes.len() as u32;
+            self.nodes.push(KdNode::leaf(items, &self.points));
+            self.nodes.push(KdNode::leaf(upper, &self.points));
+            let node = &mut self.nodes[at];
+            node.axis = axis;
+            node.split = split;
+            node.children = [below, below + 1];
+            node.items = Vec::new();
+            return;
+        }
+    }
+
+    /// The item of the inserted point nearest to `q` (ties: lowest item); 0 when empty.
     pub fn nearest(&mut self, q: &Point2<f64>) -> usize {
         if self.nodes.is_empty() {
             return 0;
@@ -90,28 +146,27 @@ impl NearestIndex {
                 continue;
             }
             let node = &self.nodes[at as usize];
-            let dx = node.point[0] - q[0];
-            let dy = node.point[1] - q[1];
-            let d = dx * dx + dy * dy;
-            if d < best.0 || (d == best.0 && node.item < best.1) {
-                best = (d, node.item);
-            }
             let [c0, c1] = node.children;
-            let b0 = (c0 != NONE).then(|| self.nodes[c0 as usize].bound(&q));
-            let b1 = (c1 != NONE).then(|| self.nodes[c1 as usize].bound(&q));
+            if c0 == NONE {
+                for &i in &node.items {
+                    let p = self.points[i as usize];
+                    let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
+                    let d = dx * dx + dy * dy;
+                    if d < best.0 || (d == best.0 && i < best.1) {
+                        best = (d, i);
+                    }
+                }
+                continue;
+            }
+            let b0 = self.nodes[c0 as usize].bound(&q);
+            let b1 = self.nodes[c1 as usize].bound(&q);
             // Push the farther child first so the nearer is searched first.
-            match (b0, b1) {
-                (Some(b0), Some(b1)) if b0 <= b1 => {
-                    stack.push((c1, b1));
-                    stack.push((c0, b0));
-                }
-                (Some(b0), Some(b1)) => {
-                    stack.push((c0, b0));
-                    stack.push((c1, b1));
-                }
-                (Some(b0), None) => stack.push((c0, b0)),
-                (None, Some(b1)) => stack.push((c1, b1)),
-                (None, None) => {}
+            if b0 <= b1 {
+                stack.push((c1, b1));
+                stack.push((c0, b0));
+            } else {
+                stack.push((c0, b0));
+                stack.push((c1, b1));
             }
         }
         self.stack = stack;
