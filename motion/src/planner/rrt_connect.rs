@@ -18,7 +18,7 @@ pub struct RrtConnect {
 
 impl Default for RrtConnect {
     fn default() -> Self {
-        Self { range: 1.0 }
+        Self { range: 0.5 }
     }
 }
 
@@ -119,7 +119,7 @@ impl Planner for RrtConnect {
         let range = if self.range.is_finite() && self.range > 0.0 {
             self.range
         } else {
-            1.0
+            0.5
         };
         let metered = Metered::new(validity, &budget);
         let mut trees = [
