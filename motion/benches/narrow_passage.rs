@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use criterion::{Criterion, criterion_group};
 use nalgebra::Point2;
-use nudge_motion::{Budget, Planner, Problem, RrtConnect, Shortcut, StateValidity, Validity};
+use nudge_motion::{Budget, Planner, Problem, Rrt, RrtConnect, Shortcut, StateValidity, Validity};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -35,6 +35,15 @@ fn ours(world: &World, seed: u64, shortcut: bool) -> Option<f64> {
     } else {
         path
     };
+    Some(path.length())
+}
+
+fn ours_rrt(world: &World, seed: u64) -> Option<f64> {
+    let (v, p) = world;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let path = Rrt::default()
+        .solve(p, v, Budget::iterations(200_000), &mut rng)
+        .ok()?;
     Some(path.length())
 }
 
@@ -103,8 +112,14 @@ fn print_percentiles() {
         percentiles(&format!("{name} nudge rrt-connect+shortcut"), |s| {
             ours(&world, s, true)
         });
+        percentiles(&format!("{name} nudge rrt (goal bias)"), |s| {
+            ours_rrt(&world, s)
+        });
         percentiles(&format!("{name} rrt crate (step {RRT_CRATE_STEP})"), |s| {
             rrt_crate(&world, s, RRT_CRATE_STEP)
+        });
+        percentiles(&format!("{name} rrt crate (step 0.5, unsafe)"), |s| {
+            rrt_crate(&world, s, 0.5)
         });
     }
 }
