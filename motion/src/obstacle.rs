@@ -122,11 +122,19 @@ impl Obstacle {
         if shape.points().len() < 3 || polygon_area(shape.points()) <= 1e-9 {
             return Err(ObstacleError::Degenerate { id });
         }
-        let footprint: Vec<Point2<f64>> = shape
+        let mut footprint: Vec<Point2<f64>> = shape
             .points()
             .iter()
             .map(|v| centre + Vector2::new(f64::from(v.x), f64::from(v.y)))
             .collect();
+        // Repeated vertices would make zero-length edges without a normal.
+        footprint.dedup();
+        if footprint.len() > 1 && footprint.first() == footprint.last() {
+            footprint.pop();
+        }
+        if footprint.len() < 3 {
+            return Err(ObstacleError::Degenerate { id });
+        }
         let aabb = Aabb::around(&footprint);
         let n = footprint.len();
         let normals = (0..n)
