@@ -250,46 +250,39 @@ impl Obstacle {
     /// the exact swept-disc test of a motion, in `f64` (see [`Obstacle::disc_hits`]); tests pin it
     /// to [`Obstacle::distance_to_segment`].
     pub fn capsule_hits(&self, a: &Point2<f64>, b: &Point2<f64>, radius: f64) -> bool {
-        // Clip the segment against the footprint's edges pushed out by the radius: a miss there
-        // is a miss of the rounded inflation inside it. Then test the footprint itself, and last
-        // the rounded corners through edge distances.
-        if self.clip(a, b, radius).is_none() {
-            return false;
+        // Cyrus–Beck clipping of the segment against the footprint's edges, twice in one pass:
+        // pushed out by the radius (a miss there is a miss of the rounded inflation inside it) and
+        // as they are (a hit there is a hit). Between the two, the rounded corners decide.
+        let d = b - a;
+        let (mut grown0, mut grown1) = (0.0_f64, 1.0_f64);
+        let (mut own0, mut own1) = (0.0_f64, 1.0_f64);
+        for (v, n) in self.footprint.iter().zip(&self.normals) {
+            let h = n.dot(&(a - v));
+            let s = n.dot(&d);
+            if s == 0.0 {
+                if h >= radius {
+                    return false;
+                }
+                if h >= 0.0 {
+                    own0 = f64::INFINITY;
+                }
+            } else if s > 0.0 {
+                grown1 = grown1.min((radius - h) / s);
+                own1 = own1.min(-h / s);
+            } else {
+                grown0 = grown0.max((radius - h) / s);
+                own0 = own0.max(-h / s);
+            }
+            if grown0 > grown1 {
+                return false;
+            }
         }
-        if self.clip(a, b, 0.0).is_some() {
+        if own0 <= own1 {
             return true;
         }
         let f = &self.footprint;
         let r2 = radius * radius;
         (0..f.len()).any(|i| segment_segment_d2(a, b, &f[i], &f[(i + 1) % f.len()]) < r2)
-    }
-
-    /// Cyrus–Beck: the parameter range of `a`–`b` inside the footprint grown by `offset` along
-    /// each edge normal, or `None` when empty.
-    fn clip(&self, a: &Point2<f64>, b: &Point2<f64>, offset: f64) -> Option<(f64, f64)> {
-        let d = b - a;
-        let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
-        for (v, n) in self.footprint.iter().zip(&self.normals) {
-            // Inside the half-plane where n·(p - v) < offset.
-            let h = n.dot(&(a - v)) - offset;
-            let s = n.dot(&d);
-            if s == 0.0 {
-                if h >= 0.0 {
-                    return None;
-                }
-            } else {
-                let t = -h / s;
-                if s > 0.0 {
-                    t1 = t1.min(t);
-                } else {
-                    t0 = t0.max(t);
-                }
-                if t0 > t1 {
-                    return None;
-                }
-            }
-        }
-        Some((t0, t1))
     }
 
     /// Distance between two footprints (0 when they overlap).

@@ -23,6 +23,8 @@ struct KdNode {
     children: [u32; 2],
     /// A leaf's items.
     items: Vec<u32>,
+    /// Their positions, kept beside them so a leaf scan reads one contiguous array.
+    points: Vec<[f64; 2]>,
 }
 
 impl KdNode {
@@ -41,6 +43,7 @@ impl KdNode {
             axis: 0,
             split: 0.0,
             children: [NONE, NONE],
+            points: items.iter().map(|&i| points[i as usize]).collect(),
             items,
         }
     }
@@ -91,6 +94,7 @@ impl NearestIndex {
             grow(&mut node.bbox, &q);
             if node.children[0] == NONE {
                 node.items.push(item);
+                node.points.push(q);
                 if node.items.len() > BUCKET {
                     self.split(at);
                 }
@@ -127,6 +131,7 @@ impl NearestIndex {
             node.split = split;
             node.children = [below, below + 1];
             node.items = Vec::new();
+            node.points = Vec::new();
             return;
         }
     }
@@ -148,8 +153,7 @@ impl NearestIndex {
             let node = &self.nodes[at as usize];
             let [c0, c1] = node.children;
             if c0 == NONE {
-                for &i in &node.items {
-                    let p = self.points[i as usize];
+                for (&i, p) in node.items.iter().zip(&node.points) {
                     let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
                     let d = dx * dx + dy * dy;
                     if d < best.0 || (d == best.0 && i < best.1) {
