@@ -146,6 +146,10 @@ impl Tree {
         }
     }
 
+    pub(crate) fn len(&self) -> usize {
+        self.points.len()
+    }
+
     pub(crate) fn point(&self, i: usize) -> Point2<f64> {
         self.points[i]
     }
