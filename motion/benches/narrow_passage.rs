@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use criterion::{Criterion, criterion_group};
 use nalgebra::Point2;
-use nudge_motion::{Budget, Planner, Problem, RrtConnect, Shortcut, StateValidity, Validity};
+use nudge_motion::{Budget, Planner, Problem, Rrt, RrtConnect, Shortcut, StateValidity, Validity};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -38,7 +38,19 @@ fn ours(world: &World, seed: u64, shortcut: bool) -> Option<f64> {
     Some(path.length())
 }
 
-fn rrt_crate(world: &World, seed: u64, step: f64) -> Option<f64> {
+fn ours_rrt(world: &World, seed: u64) -> Option<f64> {
+    let (v, p) = world;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let path = Rrt::default()
+        .solve(p, v, Budget::iterations(200_000), &mut rng)
+        .ok()?;
+    Some(path.length())
+}
+
+/// The `rrt` crate's dual RRT-Connect on the same world: point checks with our disc test every
+/// `step`, seeded uniform sampling. Returns the path length, and whether the path is free under
+/// nudge's exact swept-disc check (point-checked steps can cut corners).
+fn rrt_crate_checked(world: &World, seed: u64, step: f64) -> Option<(f64, bool)> {
     let (v, p) = world;
     let rng = RefCell::new(ChaCha8Rng::seed_from_u64(seed));
     let bounds = *v.sampling_bounds();
@@ -57,11 +69,25 @@ fn rrt_crate(world: &World, seed: u64, step: f64) -> Option<f64> {
         200_000,
     )
     .ok()?;
-    Some(
-        path.windows(2)
-            .map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt())
-            .sum(),
-    )
+    let points: Vec<Point2<f64>> = path.iter().map(|q| Point2::new(q[0], q[1])).collect();
+    let free = points.windows(2).all(|w| v.motion_free(&w[0], &w[1]));
+    let length = points
+        .windows(2)
+        .map(|w| nalgebra::distance(&w[0], &w[1]))
+        .sum();
+    Some((length, free))
+}
+
+fn rrt_crate(world: &World, seed: u64, step: f64) -> Option<f64> {
+    rrt_crate_checked(world, seed, step).map(|(length, _)| length)
+}
+
+/// How many of the `rrt` crate's paths collide under the exact swept-disc check.
+fn corner_cuts(world: &World, step: f64) -> usize {
+    (0..SEEDS)
+        .filter_map(|s| rrt_crate_checked(world, s, step))
+        .filter(|(_, free)| !free)
+        .count()
 }
 
 fn percentiles(name: &str, mut solve: impl FnMut(u64) -> Option<f64>) {
@@ -103,9 +129,21 @@ fn print_percentiles() {
         percentiles(&format!("{name} nudge rrt-connect+shortcut"), |s| {
             ours(&world, s, true)
         });
+        percentiles(&format!("{name} nudge rrt (goal bias)"), |s| {
+            ours_rrt(&world, s)
+        });
         percentiles(&format!("{name} rrt crate (step {RRT_CRATE_STEP})"), |s| {
             rrt_crate(&world, s, RRT_CRATE_STEP)
         });
+        percentiles(&format!("{name} rrt crate (step 0.5, unsafe)"), |s| {
+            rrt_crate(&world, s, 0.5)
+        });
+        for step in [RRT_CRATE_STEP, 0.5] {
+            println!(
+                "{name} rrt crate (step {step}): {} of {SEEDS} paths collide under the exact check",
+                corner_cuts(&world, step)
+            );
+        }
     }
 }
 

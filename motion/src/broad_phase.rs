@@ -18,6 +18,7 @@ pub struct Grid {
     starts: Vec<u32>,
     items: Vec<u32>,
     ranges: Vec<CellRange>,
+    boxes: Vec<Aabb>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,6 +28,9 @@ struct CellRange {
     x1: usize,
     y1: usize,
 }
+
+/// Up to this many boxes a plain scan beats walking cells.
+const SCAN_UP_TO: usize = 8;
 
 /// Most cells per axis: beyond this the lists get long but memory stays bounded.
 const MAX_CELLS_PER_AXIS: usize = 256;
@@ -51,6 +55,7 @@ impl Grid {
             starts: vec![0; nx * ny + 1],
             items: Vec::new(),
             ranges: Vec::with_capacity(boxes.len()),
+            boxes: boxes.to_vec(),
         };
         grid.ranges = boxes.iter().map(|b| grid.range_of(b)).collect();
         let mut counts = vec![0u32; nx * ny];
@@ -83,6 +88,9 @@ impl Grid {
     pub fn any(&self, query: &Aabb, mut visit: impl FnMut(usize) -> bool) -> bool {
         if self.ranges.is_empty() || !self.extent.overlaps(query) {
             return false;
+        }
+        if self.boxes.len() <= SCAN_UP_TO {
+            return (0..self.boxes.len()).any(|i| self.boxes[i].overlaps(query) && visit(i));
         }
         let q = self.range_of(query);
         for y in q.y0..=q.y1 {

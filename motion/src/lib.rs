@@ -20,7 +20,9 @@ pub mod push;
 pub mod space;
 pub mod validity;
 
-pub use blocking::{BlockingConfig, BlockingReport, blocking_obstacles};
+pub use blocking::{
+    BlockingConfig, BlockingReport, Crossing, CrossingConfig, blocking_obstacles, cheapest_crossing,
+};
 pub use obstacle::{Obstacle, ObstacleError};
 pub use path::{Path, PathError};
 pub use planner::{Budget, NoPath, Planner, rrt::Rrt, rrt_connect::RrtConnect, shortcut::Shortcut};

@@ -88,6 +88,8 @@ pub struct Obstacle {
     z_min: f64,
     z_max: f64,
     centre: Point2<f64>,
+    /// Unit outward normal of the edge from vertex i to vertex i + 1 (f64, for the hot path).
+    normals: Vec<Vector2<f64>>,
     shape: ConvexPolygon,
     aabb: Aabb,
 }
@@ -120,18 +122,34 @@ impl Obstacle {
         if shape.points().len() < 3 || polygon_area(shape.points()) <= 1e-9 {
             return Err(ObstacleError::Degenerate { id });
         }
-        let footprint: Vec<Point2<f64>> = shape
+        let mut footprint: Vec<Point2<f64>> = shape
             .points()
             .iter()
             .map(|v| centre + Vector2::new(f64::from(v.x), f64::from(v.y)))
             .collect();
+        // Repeated vertices would make zero-length edges without a normal.
+        footprint.dedup();
+        if footprint.len() > 1 && footprint.first() == footprint.last() {
+            footprint.pop();
+        }
+        if footprint.len() < 3 {
+            return Err(ObstacleError::Degenerate { id });
+        }
         let aabb = Aabb::around(&footprint);
+        let n = footprint.len();
+        let normals = (0..n)
+            .map(|i| {
+                let e = footprint[(i + 1) % n] - footprint[i];
+                Vector2::new(e.y, -e.x).normalize()
+            })
+            .collect();
         Ok(Self {
             id,
             footprint,
             z_min,
             z_max,
             centre,
+            normals,
             shape,
             aabb,
         })
@@ -207,6 +225,66 @@ impl Obstacle {
         f64::from(d)
     }
 
+    /// Whether a disc of `radius` at `p` overlaps the footprint (distance below the radius).
+    ///
+    /// The planners' hot path, in exact `f64` arithmetic rather than parry's `f32` GJK (about ten
+    /// times fewer instructions); tests pin it to [`Obstacle::distance_to_point`].
+    pub fn disc_hits(&self, p: &Point2<f64>, radius: f64) -> bool {
+        let f = &self.footprint;
+        let mut inside = true;
+        for (v, n) in f.iter().zip(&self.normals) {
+            let h = n.dot(&(p - v));
+            if h >= radius {
+                return false;
+            }
+            inside &= h <= 0.0;
+        }
+        if inside {
+            return true;
+        }
+        let r2 = radius * radius;
+        (0..f.len()).any(|i| point_segment_d2(p, &f[i], &f[(i + 1) % f.len()]) < r2)
+    }
+
+    /// Whether the disc of `radius` swept from `a` to `b` (a capsule) overlaps the footprint:
+    /// the exact swept-disc test of a motion, in `f64` (see [`Obstacle::disc_hits`]); tests pin it
+    /// to [`Obstacle::distance_to_segment`].
+    pub fn capsule_hits(&self, a: &Point2<f64>, b: &Point2<f64>, radius: f64) -> bool {
+        // Cyrus–Beck clipping of the segment against the footprint's edges, twice in one pass:
+        // pushed out by the radius (a miss there is a miss of the rounded inflation inside it) and
+        // as they are (a hit there is a hit). Between the two, the rounded corners decide.
+        let d = b - a;
+        let (mut grown0, mut grown1) = (0.0_f64, 1.0_f64);
+        let (mut own0, mut own1) = (0.0_f64, 1.0_f64);
+        for (v, n) in self.footprint.iter().zip(&self.normals) {
+            let h = n.dot(&(a - v));
+            let s = n.dot(&d);
+            if s == 0.0 {
+                if h >= radius {
+                    return false;
+                }
+                if h >= 0.0 {
+                    own0 = f64::INFINITY;
+                }
+            } else if s > 0.0 {
+                grown1 = grown1.min((radius - h) / s);
+                own1 = own1.min(-h / s);
+            } else {
+                grown0 = grown0.max((radius - h) / s);
+                own0 = own0.max(-h / s);
+            }
+            if grown0 > grown1 {
+                return false;
+            }
+        }
+        if own0 <= own1 {
+            return true;
+        }
+        let f = &self.footprint;
+        let r2 = radius * radius;
+        (0..f.len()).any(|i| segment_segment_d2(a, b, &f[i], &f[(i + 1) % f.len()]) < r2)
+    }
+
     /// Distance between two footprints (0 when they overlap).
     pub fn distance_to_obstacle(&self, other: &Obstacle) -> f64 {
         let offset = other.centre - self.centre;
@@ -228,6 +306,32 @@ impl Obstacle {
 /// `p` relative to `centre`, as parry's f32 vector; the only f64 → f32 narrowing in the crate.
 fn to_local(centre: &Point2<f64>, p: &Point2<f64>) -> Vector {
     Vector::new((p.x - centre.x) as f32, (p.y - centre.y) as f32)
+}
+
+/// Squared distance from `p` to the segment `a`–`b`.
+fn point_segment_d2(p: &Point2<f64>, a: &Point2<f64>, b: &Point2<f64>) -> f64 {
+    let d = b - a;
+    let len2 = d.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + d * t - p).norm_squared()
+}
+
+/// Squared distance between segments `a`–`b` and `c`–`d` (0 when they cross).
+fn segment_segment_d2(a: &Point2<f64>, b: &Point2<f64>, c: &Point2<f64>, d: &Point2<f64>) -> f64 {
+    let cross = |o: &Point2<f64>, p: &Point2<f64>, q: &Point2<f64>| (p - o).perp(&(q - o));
+    let (d1, d2) = (cross(c, d, a), cross(c, d, b));
+    let (d3, d4) = (cross(a, b, c), cross(a, b, d));
+    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+        return 0.0;
+    }
+    point_segment_d2(a, c, d)
+        .min(point_segment_d2(b, c, d))
+        .min(point_segment_d2(c, a, b))
+        .min(point_segment_d2(d, a, b))
 }
 
 fn polygon_area(points: &[Vector]) -> f32 {
@@ -268,6 +372,41 @@ mod tests {
         assert!(crossing.abs() < 1e-6);
         let other = square(2, 3.5, 2.0, 1.0);
         assert!((o.distance_to_obstacle(&other) - 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn f64_hot_path_agrees_with_parry() {
+        // Invariant: the f64 disc and capsule tests agree with parry's distances away from ties.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let pts: Vec<Point2<f64>> = (0..7)
+            .map(|k| {
+                let a = f64::from(k) * 0.9 + 0.3;
+                Point2::new(5.0 + 1.3 * a.cos(), 5.0 + 0.7 * a.sin())
+            })
+            .collect();
+        let o = Obstacle::new(ObjectId(1), &pts, 0.0, 1.0).expect("heptagon");
+        let mut checked = 0;
+        for _ in 0..20_000 {
+            let a = Point2::new(rng.random_range(2.0..8.0), rng.random_range(2.0..8.0));
+            let b = if rng.random_bool(0.2) {
+                a
+            } else {
+                Point2::new(rng.random_range(2.0..8.0), rng.random_range(2.0..8.0))
+            };
+            let r = rng.random_range(0.0..1.0);
+            let d = o.distance_to_segment(&a, &b);
+            if (d - r).abs() < 1e-4 {
+                continue;
+            }
+            checked += 1;
+            assert_eq!(o.capsule_hits(&a, &b, r), d < r, "{a} {b} {r} {d}");
+            let dp = o.distance_to_point(&a);
+            if (dp - r).abs() >= 1e-4 {
+                assert_eq!(o.disc_hits(&a, r), dp < r, "{a} {r} {dp}");
+            }
+        }
+        assert!(checked > 19_000);
     }
 
     #[test]

@@ -378,3 +378,68 @@ fn plan(
     let path = planner.solve(&problem, validity, config.budget, rng).ok()?;
     Some(config.shortcut.shorten(&path, validity, rng))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Isometry3, Point3 as P3};
+    use nudge_perception::{CloudFrame, ColourCloud};
+
+    /// A chair 0.5 m square at x 0..0.5: seat at 0.45 m, backrest along x = 0.5 up to 0.85 m.
+    fn chair() -> (Prism, Obstacle) {
+        let mut points = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        for i in 0..=10 {
+            let y = f64::from(i) * 0.05;
+            for j in 0..=10 {
+                let x = f64::from(j) * 0.05;
+                points.push(P3::new(x as f32, y as f32, 0.45), [90, 60, 30]);
+            }
+            for k in 0..=8 {
+                let z = 0.45 + f64::from(k) * 0.05;
+                points.push(P3::new(0.5, y as f32, z as f32), [90, 60, 30]);
+            }
+        }
+        let footprint = vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.5, 0.0),
+            Point2::new(0.5, 0.5),
+            Point2::new(0.0, 0.5),
+        ];
+        let prism = Prism {
+            id: ObjectId(1),
+            footprint: footprint.clone(),
+            z_min: 0.0,
+            z_max: 0.85,
+            points,
+        };
+        let obstacle = Obstacle::new(ObjectId(1), &footprint, 0.0, 0.85).expect("square");
+        (prism, obstacle)
+    }
+
+    #[test]
+    fn hand_goes_below_the_top_of_the_facing_surface() {
+        // Invariant: the hand height follows the surface facing the robot (seat edge in front,
+        // backrest behind), not the prism's overall top.
+        let (prism, obstacle) = chair();
+        let config = PushConfig::default();
+        let faces = pushable_faces(&obstacle, &prism, &config);
+        let height_pushing = |dir: Vector2<f64>| {
+            faces
+                .iter()
+                .find(|f| f.direction.into_inner().dot(&dir) > 0.99)
+                .map(|f| f.hand_height)
+                .expect("a face for this direction")
+        };
+        // Robot behind the backrest (at x > 0.5) pushes toward -x: backrest top 0.85.
+        assert!((height_pushing(Vector2::new(-1.0, 0.0)) - 0.80).abs() < 1e-6);
+        // Robot in front of the seat (x < 0) pushes toward +x: seat edge 0.45.
+        assert!((height_pushing(Vector2::new(1.0, 0.0)) - 0.40).abs() < 1e-6);
+        // Without points: the prism's top.
+        let bare = Prism {
+            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
+            ..prism
+        };
+        let faces = pushable_faces(&obstacle, &bare, &config);
+        assert!(faces.iter().all(|f| (f.hand_height - 0.80).abs() < 1e-6));
+    }
+}

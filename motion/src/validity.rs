@@ -243,7 +243,7 @@ impl Validity {
         let mut hits = Vec::new();
         self.grid.for_each(&segment_box(a, b), |i| {
             let o = &self.obstacles[i];
-            if o.distance_to_segment(a, b) < self.robot.radius {
+            if o.capsule_hits(a, b, self.robot.radius) {
                 hits.push(i);
             }
         });
@@ -255,7 +255,7 @@ impl Validity {
         let r = self.robot.radius;
         self.grid.any(&segment_box(p, p), |i| {
             let o = &self.obstacles[i];
-            o.aabb().inflated(r).overlaps(&segment_box(p, p)) && o.distance_to_point(p) < r
+            o.aabb().inflated(r).overlaps(&segment_box(p, p)) && o.disc_hits(p, r)
         })
     }
 
@@ -264,7 +264,7 @@ impl Validity {
         let query = segment_box(a, b);
         self.grid.any(&query, |i| {
             let o = &self.obstacles[i];
-            o.aabb().inflated(r).overlaps(&query) && o.distance_to_segment(a, b) < r
+            o.aabb().inflated(r).overlaps(&query) && o.capsule_hits(a, b, r)
         })
     }
 }

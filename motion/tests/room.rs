@@ -168,3 +168,44 @@ fn the_mat_cannot_be_pushed() {
     );
     assert_eq!(out, Err(nudge_motion::PushError::UnknownObject(MAT)));
 }
+
+#[test]
+fn the_cheapest_crossing_goes_through_movable_candidates_only() {
+    // Invariant: with the chairs passable and the table not, the cheapest path crosses only chairs.
+    let (v, p) = common::room();
+    let crossing = nudge_motion::cheapest_crossing(
+        &p,
+        &v,
+        &[CHAIR_1, CHAIR_2],
+        &nudge_motion::CrossingConfig::default(),
+    )
+    .expect("the chairs can be crossed");
+    println!(
+        "crossing {:?} cost {:.2} length {:.2}",
+        crossing.crossed,
+        crossing.cost,
+        crossing.path.length()
+    );
+    assert!(!crossing.crossed.is_empty());
+    assert!(
+        crossing
+            .crossed
+            .iter()
+            .all(|id| [CHAIR_1, CHAIR_2].contains(id))
+    );
+    assert!(crossing.cost >= crossing.path.length());
+    // Everything passable: the straight line through the table is cheapest.
+    let all = nudge_motion::cheapest_crossing(
+        &p,
+        &v,
+        &[TABLE, CHAIR_1, CHAIR_2],
+        &nudge_motion::CrossingConfig::default(),
+    )
+    .expect("all passable");
+    println!("all passable: {:?} cost {:.2}", all.crossed, all.cost);
+    assert!(all.cost <= crossing.cost);
+    // Nothing passable: no way through.
+    let none =
+        nudge_motion::cheapest_crossing(&p, &v, &[], &nudge_motion::CrossingConfig::default());
+    assert!(matches!(none, Err(nudge_motion::NoPath::NotFound { .. })));
+}

@@ -36,6 +36,13 @@ pub struct FloorConfig {
     pub patch_side: f64,
     /// Fewest points in the square to fit the model. Default 30.
     pub min_patch_points: usize,
+    /// Where the floor is expected in the map frame (m): the base frame's z = 0, since the robot stands
+    /// on it. Default 0.0.
+    pub expected_height: f64,
+    /// Only square points within this of `expected_height` (m) are taken as known floor. Default 0.05:
+    /// when the robot stands at a push pose the object itself may reach into the square, and its points
+    /// must not teach the model that the floor is 0.45 m high and blue.
+    pub patch_height_tolerance: f64,
     /// Lower bound on the height standard deviation σ_z (m). Default 0.006 (range noise of the far floor).
     pub min_sigma_z: f64,
     /// Variance added to each colour channel's variance (8-bit levels²). Default 25 (σ ≥ 5 levels), so a
@@ -53,6 +60,8 @@ impl Default for FloorConfig {
             patch_ahead: 1.0,
             patch_side: 0.4,
             min_patch_points: 30,
+            expected_height: 0.0,
+            patch_height_tolerance: 0.05,
             min_sigma_z: 0.006,
             colour_variance_floor: 25.0,
             max_mahalanobis_sq: 18.47,
@@ -65,6 +74,9 @@ impl FloorConfig {
         let ok = self.patch_ahead.is_finite()
             && self.patch_side.is_finite()
             && self.patch_side > 0.0
+            && self.expected_height.is_finite()
+            && self.patch_height_tolerance.is_finite()
+            && self.patch_height_tolerance > 0.0
             && self.min_sigma_z.is_finite()
             && self.min_sigma_z > 0.0
             && self.colour_variance_floor.is_finite()
@@ -96,7 +108,7 @@ pub struct FloorModel {
 
 impl FloorModel {
     /// Learns the floor from the points of `cloud` (map frame) in the square in front of the robot at
-    /// `base_pose` (map frame, planar).
+    /// `base_pose` (map frame, planar) that lie near the expected floor height.
     ///
     /// Errors: no valid point in the square, fewer than [`FloorConfig::min_patch_points`], a non-finite
     /// pose or an out-of-range config.
@@ -116,7 +128,15 @@ impl FloorModel {
         let map_to_base = base_pose.inverse();
         let half = config.patch_side / 2.0;
         let (near, far) = (config.patch_ahead - half, config.patch_ahead + half);
-        let in_patch = |x: f32, y: f32| {
+        let (z_lo, z_hi) = (
+            config.expected_height - config.patch_height_tolerance,
+            config.expected_height + config.patch_height_tolerance,
+        );
+        let in_patch = |x: f32, y: f32, z: f32| {
+            let z = f64::from(z);
+            if z < z_lo || z > z_hi {
+                return false;
+            }
             let b = map_to_base * Point2::new(f64::from(x), f64::from(y));
             b.x >= near && b.x <= far && b.y.abs() <= half
         };
@@ -125,7 +145,7 @@ impl FloorModel {
         let mut sum_c = Vector3::zeros();
         let mut samples: Vec<(f64, Vector3<f64>)> = Vec::new();
         for (_, p, c) in cloud.iter_valid() {
-            if in_patch(p.x, p.y) {
+            if in_patch(p.x, p.y, p.z) {
                 let cv = colour_vector(c);
                 n += 1;
                 sum_z += f64::from(p.z);
@@ -220,6 +240,13 @@ impl FloorModel {
 
     /// True when the point is floor (`d² ≤` the bound; non-finite input is never floor).
     pub fn is_floor(&self, z: f64, c: Rgb) -> bool {
+        // The height term alone already exceeds the bound for every point on an obstacle: skip the
+        // colour term there.
+        let dz = (z - self.mu_z) / self.sigma_z;
+        let dz2 = dz * dz;
+        if dz2.is_nan() || dz2 > self.max_mahalanobis_sq {
+            return false;
+        }
         let d2 = self.mahalanobis_sq(z, c);
         d2.is_finite() && d2 <= self.max_mahalanobis_sq
     }
@@ -236,25 +263,62 @@ impl FloorModel {
 
     /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's frame.
     pub fn split(&self, cloud: &ColourCloud) -> (ColourCloud, ColourCloud) {
-        let flags = self.classify(cloud);
-        let frame = cloud.frame();
-        let mut floor = ColourCloud::empty(frame, *cloud.sensor_pose(), cloud.stamp());
-        let mut rest =
-            ColourCloud::with_capacity(frame, *cloud.sensor_pose(), cloud.stamp(), cloud.len() / 2);
-        for (i, p, c) in cloud.iter_valid() {
-            if flags[i] {
-                floor.push(p, c);
-            } else {
-                rest.push(p, c);
-            }
+        (self.select(cloud, true), self.select(cloud, false))
+    }
+
+    /// The valid points of `cloud` that are not floor (in the cloud's frame), in slot order.
+    pub fn non_floor(&self, cloud: &ColourCloud) -> ColourCloud {
+        self.select(cloud, false)
+    }
+
+    /// The valid points whose floor flag equals `floor`, filtered in parallel over fixed chunks and
+    /// joined in order (deterministic).
+    fn select(&self, cloud: &ColourCloud, floor: bool) -> ColourCloud {
+        const CHUNK: usize = 16_384;
+        let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
+        let n = cloud.len();
+        let parts: Vec<Vec<usize>> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|k| {
+                (k * CHUNK..((k + 1) * CHUNK).min(n))
+                    .filter(|&i| {
+                        xs[i].is_finite()
+                            && ys[i].is_finite()
+                            && zs[i].is_finite()
+                            && self.is_floor(f64::from(zs[i]), cs[i]) == floor
+                    })
+                    .collect()
+            })
+            .collect();
+        let total: usize = parts.iter().map(Vec::len).sum();
+        let (mut x, mut y, mut z, mut rgb) = (
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+        );
+        for &i in parts.iter().flatten() {
+            x.push(xs[i]);
+            y.push(ys[i]);
+            z.push(zs[i]);
+            rgb.push(cs[i]);
         }
-        (floor, rest)
+        ColourCloud::from_arrays(
+            x,
+            y,
+            z,
+            rgb,
+            cloud.frame(),
+            *cloud.sensor_pose(),
+            cloud.stamp(),
+        )
+        .unwrap_or_else(|| ColourCloud::empty(cloud.frame(), *cloud.sensor_pose(), cloud.stamp()))
     }
 }
 
 /// The non-floor points of a map-frame cloud (valid points only).
 pub fn remove_floor(cloud: &ColourCloud, model: &FloorModel) -> ColourCloud {
-    model.split(cloud).1
+    model.non_floor(cloud)
 }
 
 fn colour_vector(c: Rgb) -> Vector3<f64> {

@@ -27,6 +27,18 @@ pub struct LookAroundConfig {
     pub pans_deg: Vec<f64>,
 }
 
+impl HeadView {
+    /// Tilt in radians (positive looks down).
+    pub fn tilt_rad(&self) -> f64 {
+        self.tilt_deg.to_radians()
+    }
+
+    /// Pan in radians (positive looks left).
+    pub fn pan_rad(&self) -> f64 {
+        self.pan_deg.to_radians()
+    }
+}
+
 impl Default for LookAroundConfig {
     fn default() -> Self {
         Self {
@@ -57,8 +69,6 @@ impl LookAroundConfig {
 /// cloud, slot by slot) whatever the thread count. The result carries the first cloud's sensor pose and
 /// the latest stamp; no input gives an empty cloud.
 pub fn fuse(clouds: &[ColourCloud]) -> ColourCloud {
-    let parts: Vec<ColourCloud> = clouds.par_iter().map(ColourCloud::to_map).collect();
-    let total = parts.iter().map(ColourCloud::len).sum();
     let pose = clouds
         .first()
         .map(|c| *c.sensor_pose())
@@ -69,11 +79,73 @@ pub fn fuse(clouds: &[ColourCloud]) -> ColourCloud {
         .filter(|s| s.is_finite())
         .fold(f64::NEG_INFINITY, f64::max);
     let stamp = if stamp.is_finite() { stamp } else { 0.0 };
-    let mut fused = ColourCloud::with_capacity(CloudFrame::Map, pose, stamp, total);
-    for part in &parts {
-        fused.extend_from(part);
+    // Count first, then let each cloud fill its own slice of the output in parallel: no intermediate
+    // buffers, and the output order is cloud by cloud, slot by slot, whatever the thread count.
+    let counts: Vec<usize> = clouds.par_iter().map(valid_slots).collect();
+    let total: usize = counts.iter().sum();
+    let mut x = vec![0f32; total];
+    let mut y = vec![0f32; total];
+    let mut z = vec![0f32; total];
+    let mut rgb = vec![[0u8; 3]; total];
+    let mut jobs = Vec::with_capacity(clouds.len());
+    let (mut xr, mut yr, mut zr, mut cr) = (&mut x[..], &mut y[..], &mut z[..], &mut rgb[..]);
+    for (cloud, &n) in clouds.iter().zip(&counts) {
+        let (xa, xb) = xr.split_at_mut(n);
+        let (ya, yb) = yr.split_at_mut(n);
+        let (za, zb) = zr.split_at_mut(n);
+        let (ca, cb) = cr.split_at_mut(n);
+        jobs.push((cloud, xa, ya, za, ca));
+        (xr, yr, zr, cr) = (xb, yb, zb, cb);
     }
-    fused
+    jobs.into_par_iter()
+        .for_each(|(cloud, xo, yo, zo, co)| to_map_into(cloud, xo, yo, zo, co));
+    ColourCloud::from_arrays(x, y, z, rgb, CloudFrame::Map, pose, stamp)
+        .unwrap_or_else(|| ColourCloud::empty(CloudFrame::Map, pose, stamp))
+}
+
+/// Slots of `cloud` with finite coordinates.
+fn valid_slots(cloud: &ColourCloud) -> usize {
+    let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
+    xs.iter()
+        .zip(ys)
+        .zip(zs)
+        .filter(|((x, y), z)| x.is_finite() && y.is_finite() && z.is_finite())
+        .count()
+}
+
+/// Writes the valid points of `cloud` in the map frame into the given slices (exactly
+/// [`valid_slots`] long): one tight pass with a rotation matrix (faster than applying the quaternion
+/// point by point, which is what [`ColourCloud::to_map`] does).
+fn to_map_into(
+    cloud: &ColourCloud,
+    xo: &mut [f32],
+    yo: &mut [f32],
+    zo: &mut [f32],
+    co: &mut [crate::cloud::Rgb],
+) {
+    let (r, t) = match cloud.frame() {
+        CloudFrame::Sensor => {
+            let pose = cloud.sensor_pose().cast::<f32>();
+            (
+                pose.rotation.to_rotation_matrix().into_inner(),
+                pose.translation.vector,
+            )
+        }
+        CloudFrame::Map => (nalgebra::Matrix3::identity(), nalgebra::Vector3::zeros()),
+    };
+    let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
+    let mut k = 0;
+    for i in 0..xs.len() {
+        let (x, y, z) = (xs[i], ys[i], zs[i]);
+        if !(x.is_finite() && y.is_finite() && z.is_finite()) || k >= xo.len() {
+            continue;
+        }
+        xo[k] = r[(0, 0)] * x + r[(0, 1)] * y + r[(0, 2)] * z + t.x;
+        yo[k] = r[(1, 0)] * x + r[(1, 1)] * y + r[(1, 2)] * z + t.y;
+        zo[k] = r[(2, 0)] * x + r[(2, 1)] * y + r[(2, 2)] * z + t.z;
+        co[k] = cs.get(i).copied().unwrap_or([0, 0, 0]);
+        k += 1;
+    }
 }
 
 #[cfg(test)]

@@ -55,6 +55,31 @@ pub struct Detection {
 /// `base_pose` is the robot's planar pose in the map frame (the known floor lies in front of it);
 /// `previous` are the last look's prisms (empty at the first look), whose ids are kept where footprints
 /// overlap. A cloud with no valid point or no floor in front is an error.
+///
+/// ```
+/// use nalgebra::{Isometry2, Isometry3, Point3};
+/// use nudge_perception::{CloudFrame, ColourCloud, PerceptionConfig, detect_objects};
+///
+/// // A floor in front of a robot at the origin facing +x, and a 20 cm box 0.5 m tall at x = 2 m.
+/// let mut cloud = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+/// for i in 0..60 {
+///     for j in 0..40 {
+///         let (x, y) = (0.5 + 0.05 * i as f32, -1.0 + 0.05 * j as f32);
+///         cloud.push(Point3::new(x, y, 0.0), [150, 150, 140]);
+///     }
+/// }
+/// for i in 0..20 {
+///     for j in 0..20 {
+///         let (x, y) = (2.0 + 0.01 * i as f32, 0.01 * j as f32);
+///         cloud.push(Point3::new(x, y, 0.5), [40, 90, 160]);
+///     }
+/// }
+/// let prisms = detect_objects(&cloud, &Isometry2::identity(), &PerceptionConfig::default(), &[])
+///     .expect("there is floor in front of the robot");
+/// assert_eq!(prisms.len(), 1);
+/// assert!((prisms[0].z_max - 0.5).abs() < 1e-3);
+/// assert!((prisms[0].area() - 0.19 * 0.19).abs() < 0.01);
+/// ```
 pub fn detect_objects(
     fused: &ColourCloud,
     base_pose: &Isometry2<f64>,
@@ -75,7 +100,7 @@ pub fn detect(
         return Err(PerceptionError::EmptyCloud);
     }
     let floor = FloorModel::learn(fused, base_pose, &config.floor)?;
-    let obstacles = floor.split(fused).1;
+    let obstacles = floor.non_floor(fused);
     let centre = Point2::from(base_pose.translation.vector);
     let map = ElevationMap::build(&obstacles, floor.height(), centre, &config.elevation)?;
     let clusters = label(&map, &config.segment);

@@ -150,6 +150,14 @@ pub fn convex_iou(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     if union > 0.0 { inter / union } else { 0.0 }
 }
 
+/// Area of the intersection of two convex counter-clockwise polygons.
+pub fn convex_intersection_area(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
+    if a.len() < 3 || b.len() < 3 {
+        return 0.0;
+    }
+    polygon_area(&clip_convex(a, b)).abs()
+}
+
 /// Sutherland–Hodgman: the part of convex polygon `subject` inside convex CCW polygon `clip`.
 fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>> {
     let mut out: Vec<Point2<f64>> = subject.to_vec();

@@ -29,7 +29,7 @@ use crate::segment::{Cluster, Connectivity, components};
 /// Parameters of prism building.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PrismConfig {
-    /// A cluster whose hull area exceeds this many times its occupied-cell area is split. Default 3.0
+    /// A cluster whose hull area exceeds this many times its occupied-cell area is split. Default 2.0
     /// (compact furniture is about 1; an L of two 1 m wall runs is about 6).
     pub max_hull_fill_ratio: f64,
     /// Pieces whose longer side is shorter than this (m) are not split further. Default 0.4.
@@ -41,16 +41,34 @@ pub struct PrismConfig {
     pub min_thickness: f64,
     /// Connectivity used to re-label the halves of a split cluster. Default 8.
     pub connectivity: Connectivity,
+    /// Two pieces of different clusters merge when their footprints' intersection covers at least this
+    /// fraction of the smaller one: a chair leg seen apart from its seat (the seat's corner hidden)
+    /// lies inside the chair's footprint and is the chair, not a second object. Default 0.5.
+    pub merge_min_overlap: f64,
+    /// A piece with a footprint smaller than this (m²) is a fragment: a leg, an edge seen alone.
+    /// Default 0.01 (a 10 × 10 cm patch).
+    pub fragment_area: f64,
+    /// A fragment closer than this (m) to a piece of another cluster joins it (the nearest). Default
+    /// 0.1: a chair leg below a hidden seat corner joins the chair; two objects a robot could pass
+    /// between (≥ 0.7 m) never merge.
+    pub fragment_gap: f64,
+    /// Pieces no higher than this (m) are low (mats; see [`crate::segment::SegmentConfig::low_height`])
+    /// and never merge with tall ones, so a mat never lends its area to furniture. Default 0.05.
+    pub low_height: f32,
 }
 
 impl Default for PrismConfig {
     fn default() -> Self {
         Self {
-            max_hull_fill_ratio: 3.0,
+            max_hull_fill_ratio: 2.0,
             min_split_extent: 0.4,
             max_split_depth: 12,
             min_thickness: 0.02,
             connectivity: Connectivity::Eight,
+            merge_min_overlap: 0.5,
+            fragment_area: 0.01,
+            fragment_gap: 0.1,
+            low_height: 0.05,
         }
     }
 }
@@ -67,7 +85,8 @@ pub fn build_prisms(
     config: &PrismConfig,
 ) -> Vec<Prism> {
     let mut pieces: Vec<(Vec<u32>, Vec<Point2<f64>>)> = Vec::new();
-    for cluster in clusters {
+    let mut roots: Vec<usize> = Vec::new();
+    for (root, cluster) in clusters.iter().enumerate() {
         let first = pieces.len();
         split_into_compact(map, cluster.cells.clone(), config, 0, &mut pieces);
         if pieces.len() - first > 1 {
@@ -79,7 +98,9 @@ pub fn build_prisms(
                 *hull = footprint_of(map, &grown, config.min_thickness);
             }
         }
+        roots.resize(pieces.len(), root);
     }
+    merge_nested(map, &mut pieces, &roots, config);
     // Which piece each touched cell belongs to, to gather points in one pass.
     let mut cell_piece = vec![NO_CELL; map.cells().len()];
     for (p, (cells, _)) in pieces.iter().enumerate() {
@@ -133,6 +154,79 @@ pub fn build_prisms(
             }
         })
         .collect()
+}
+
+/// Merges pieces of different clusters (and the same height class) whose footprints mostly overlap,
+/// until none do. Deterministic: pairs are scanned in index order and the merged piece takes the lower
+/// index.
+fn merge_nested(
+    map: &ElevationMap,
+    pieces: &mut Vec<(Vec<u32>, Vec<Point2<f64>>)>,
+    roots: &[usize],
+    config: &PrismConfig,
+) {
+    let cells = map.cells();
+    let is_low = |piece: &[u32]| {
+        piece
+            .iter()
+            .all(|&k| cells[k as usize].z_max <= config.low_height)
+    };
+    let mut roots = roots.to_vec();
+    'again: loop {
+        for i in 0..pieces.len() {
+            for j in i + 1..pieces.len() {
+                if roots[i] == roots[j] || is_low(&pieces[i].0) != is_low(&pieces[j].0) {
+                    continue;
+                }
+                let (a, b) = (&pieces[i].1, &pieces[j].1);
+                let smaller = polygon_area(a).abs().min(polygon_area(b).abs());
+                if smaller <= 0.0 {
+                    continue;
+                }
+                let inter = crate::prism::convex_intersection_area(a, b);
+                let fragment_near =
+                    smaller < config.fragment_area && polygon_distance(a, b) <= config.fragment_gap;
+                if inter >= config.merge_min_overlap * smaller || fragment_near {
+                    let (cells_j, _) = pieces.remove(j);
+                    roots.remove(j);
+                    pieces[i].0.extend(cells_j);
+                    pieces[i].1 = footprint_of(map, &pieces[i].0, config.min_thickness);
+                    continue 'again;
+                }
+            }
+        }
+        break;
+    }
+}
+
+/// Smallest distance between two convex polygons (0 when they overlap).
+fn polygon_distance(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
+    if crate::prism::convex_intersection_area(a, b) > 0.0 {
+        return 0.0;
+    }
+    let point_to_edges = |p: &Point2<f64>, poly: &[Point2<f64>]| {
+        (0..poly.len())
+            .map(|i| {
+                let (s, e) = (poly[i], poly[(i + 1) % poly.len()]);
+                let d = e - s;
+                let t = if d.norm_squared() > 0.0 {
+                    ((p - s).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (p - (s + d * t)).norm()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let ab = a
+        .iter()
+        .map(|p| point_to_edges(p, b))
+        .fold(f64::INFINITY, f64::min);
+    let ba = b
+        .iter()
+        .map(|p| point_to_edges(p, a))
+        .fold(f64::INFINITY, f64::min);
+    ab.min(ba)
 }
 
 /// Cuts `cells` until every piece is compact; pushes (cells, hull) pieces.
@@ -214,7 +308,7 @@ fn footprint_of(map: &ElevationMap, cells: &[u32], min_thickness: f64) -> Vec<Po
 
 /// Convex hull (parry2d) of xy points as a CCW f64 polygon; a degenerate set (one spot, a line) gets a
 /// rectangle `min_thickness` thick around it. Empty input gives an empty polygon.
-pub fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<f64>> {
+pub(crate) fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<f64>> {
     let Some(first) = pts.first() else {
         return Vec::new();
     };

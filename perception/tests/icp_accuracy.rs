@@ -169,7 +169,7 @@ fn geometry_alone_cannot_see_a_slide_along_a_flat_panel() {
         "geometric-only slide from 0: {slide:.1} mm ({:?})",
         r.translation_mm
     );
-    assert!(slide.abs() < 10.0, "geometric ICP read {slide} mm");
+    assert!(slide.abs() < 15.0, "geometric ICP read {slide} mm");
     let (slide, _) = panel_case(&IcpConfig::geometric_only(), 85.0);
     eprintln!("geometric-only slide from 85 mm: {slide:.1} mm");
     assert!(
@@ -202,4 +202,26 @@ fn a_panel_with_its_edges_in_view_is_found_by_colour_and_partly_by_geometry() {
     let (geometric, _) = panel_case_of_width(&IcpConfig::geometric_only(), 0.0, 0.8);
     eprintln!("0.8 m panel: colour {colour:.1} mm, geometric-only {geometric:.1} mm");
     assert!((colour - 100.0).abs() < 5.0, "colour ICP read {colour} mm");
+}
+
+#[test]
+fn icp_is_deterministic_whatever_the_thread_count() {
+    // Invariant: the same clouds and guess give the same result bit for bit on 1 thread and on many.
+    let start = planar(CHAIR_X, CHAIR_Y, 0.0);
+    let end = planar(CHAIR_X + 0.3, CHAIR_Y, 2f64.to_radians());
+    let before = object_points(&chair("chair", start, [40, 90, 160]), &eye(), 100);
+    let after = object_points(&chair("chair", end, [40, 90, 160]), &eye(), 101);
+    let guess = Isometry3::translation(0.25, 0.0, 0.0);
+    let run = || colour_icp(&before, &after, &guess, &IcpConfig::default()).expect("enough points");
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool")
+        .install(run);
+    let many = rayon::ThreadPoolBuilder::new()
+        .num_threads(4)
+        .build()
+        .expect("a four-thread pool")
+        .install(run);
+    assert_eq!(one, many);
 }

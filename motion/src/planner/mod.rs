@@ -146,12 +146,16 @@ impl Tree {
         }
     }
 
+    pub(crate) fn len(&self) -> usize {
+        self.points.len()
+    }
+
     pub(crate) fn point(&self, i: usize) -> Point2<f64> {
         self.points[i]
     }
 
-    pub(crate) fn nearest(&self, q: &Point2<f64>) -> usize {
-        self.index.nearest(q, &self.points)
+    pub(crate) fn nearest(&mut self, q: &Point2<f64>) -> usize {
+        self.index.nearest(q)
     }
 
     pub(crate) fn add(&mut self, p: Point2<f64>, parent: usize) -> usize {

@@ -1,124 +1,180 @@
-//! Nearest neighbour among a tree's nodes: a uniform bucket grid searched ring by ring.
+//! Nearest neighbour among a tree's nodes: an incremental k-d tree with bucket leaves.
 //!
-//! Ties go to the lowest node index, so the answer does not depend on the search order.
+//! A full leaf splits at the median of its points along its wider side, so the tree adapts to the
+//! data even when points arrive in order along a line (as CONNECT adds them). Every node keeps its
+//! subtree's bounding box, so queries far from all points (common early in RRT) prune whole
+//! subtrees at once. Ties go to the lowest item, so the answer does not depend on the search order.
 
 use nalgebra::Point2;
 
 use crate::space::Bounds;
 
-/// Below this many nodes a plain scan is faster than the grid.
-const SCAN_BELOW: usize = 48;
-/// Cells along the longer side of the bounds.
-const CELLS: usize = 48;
+const NONE: u32 = u32::MAX;
+/// Points per leaf before it splits.
+const BUCKET: usize = 12;
 
-/// A bucket grid over the sampling bounds.
 #[derive(Clone, Debug)]
+struct KdNode {
+    /// Bounding box of this subtree: min x, min y, max x, max y.
+    bbox: [f64; 4],
+    axis: usize,
+    split: f64,
+    /// Children (below, at-or-above the split); `NONE` for a leaf.
+    children: [u32; 2],
+    /// A leaf's items.
+    items: Vec<u32>,
+    /// Their positions, kept beside them so a leaf scan reads one contiguous array.
+    points: Vec<[f64; 2]>,
+}
+
+impl KdNode {
+    fn leaf(items: Vec<u32>, points: &[[f64; 2]]) -> Self {
+        let mut bbox = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for &i in &items {
+            grow(&mut bbox, &points[i as usize]);
+        }
+        Self {
+            bbox,
+            axis: 0,
+            split: 0.0,
+            children: [NONE, NONE],
+            points: items.iter().map(|&i| points[i as usize]).collect(),
+            items,
+        }
+    }
+
+    /// Squared distance from `q` to this subtree's box (0 inside).
+    fn bound(&self, q: &[f64; 2]) -> f64 {
+        let dx = (self.bbox[0] - q[0]).max(0.0).max(q[0] - self.bbox[2]);
+        let dy = (self.bbox[1] - q[1]).max(0.0).max(q[1] - self.bbox[3]);
+        dx * dx + dy * dy
+    }
+}
+
+fn grow(bbox: &mut [f64; 4], p: &[f64; 2]) {
+    bbox[0] = bbox[0].min(p[0]);
+    bbox[1] = bbox[1].min(p[1]);
+    bbox[2] = bbox[2].max(p[0]);
+    bbox[3] = bbox[3].max(p[1]);
+}
+
+/// A k-d tree over inserted positions, identified by the item given at insertion.
+#[derive(Clone, Debug, Default)]
 pub struct NearestIndex {
-    min: Point2<f64>,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    buckets: Vec<Vec<u32>>,
-    count: usize,
+    points: Vec<[f64; 2]>,
+    nodes: Vec<KdNode>,
+    /// Search stack kept between queries to avoid an allocation per query.
+    stack: Vec<(u32, f64)>,
 }
 
 impl NearestIndex {
-    /// An empty index over `bounds`.
-    pub fn new(bounds: &Bounds) -> Self {
-        let size = bounds.size();
-        let cell = size.x.max(size.y) / CELLS as f64;
-        let nx = ((size.x / cell).ceil() as usize).clamp(1, CELLS);
-        let ny = ((size.y / cell).ceil() as usize).clamp(1, CELLS);
-        Self {
-            min: bounds.min(),
-            cell,
-            nx,
-            ny,
-            buckets: vec![Vec::new(); nx * ny],
-            count: 0,
-        }
+    /// An empty index (a k-d tree needs no bounds; the parameter keeps constructors uniform).
+    pub fn new(_bounds: &Bounds) -> Self {
+        Self::default()
     }
 
-    /// Records node `i` at `p`.
+    /// Records item `i` at `p`; items must be inserted as 0, 1, 2, …
     pub fn insert(&mut self, p: &Point2<f64>, i: usize) {
-        let (x, y) = self.cell_of(p);
-        self.buckets[y * self.nx + x].push(i as u32);
-        self.count += 1;
+        let q = [p.x, p.y];
+        debug_assert_eq!(i, self.points.len());
+        self.points.push(q);
+        let item = i as u32;
+        if self.nodes.is_empty() {
+            self.nodes.push(KdNode::leaf(vec![item], &self.points));
+            return;
+        }
+        let mut at = 0usize;
+        loop {
+            let node = &mut self.nodes[at];
+            grow(&mut node.bbox, &q);
+            if node.children[0] == NONE {
+                node.items.push(item);
+                node.points.push(q);
+                if node.items.len() > BUCKET {
+                    self.split(at);
+                }
+                return;
+            }
+            at = node.children[usize::from(q[node.axis] >= node.split)] as usize;
+        }
     }
 
-    /// The index of the node of `points` nearest to `q` (ties: lowest index); `points` must be the
-    /// positions inserted, by index, and not empty.
-    pub fn nearest(&self, q: &Point2<f64>, points: &[Point2<f64>]) -> usize {
-        let better =
-            |d: f64, i: usize, best: (f64, usize)| d < best.0 || (d == best.0 && i < best.1);
-        if self.count < SCAN_BELOW {
-            let mut best = (f64::INFINITY, 0);
-            for (i, p) in points.iter().enumerate() {
-                let d = (p - q).norm_squared();
-                if better(d, i, best) {
-                    best = (d, i);
-                }
+    /// Splits leaf `at` at the median of its points along its wider side (the other side when
+    /// all share one coordinate; never when all points coincide).
+    fn split(&mut self, at: usize) {
+        let bbox = self.nodes[at].bbox;
+        let wider = usize::from(bbox[3] - bbox[1] > bbox[2] - bbox[0]);
+        for axis in [wider, 1 - wider] {
+            let mut items = self.nodes[at].items.clone();
+            let points = &self.points;
+            items.sort_by(|a, b| {
+                points[*a as usize][axis]
+                    .total_cmp(&points[*b as usize][axis])
+                    .then(a.cmp(b))
+            });
+            let split = points[items[items.len() / 2] as usize][axis];
+            let cut = items.partition_point(|&i| points[i as usize][axis] < split);
+            if cut == 0 {
+                continue;
             }
-            return best.1;
+            let upper = items.split_off(cut);
+            let below = self.nodes.len() as u32;
+            self.nodes.push(KdNode::leaf(items, &self.points));
+            self.nodes.push(KdNode::leaf(upper, &self.points));
+            let node = &mut self.nodes[at];
+            node.axis = axis;
+            node.split = split;
+            node.children = [below, below + 1];
+            node.items = Vec::new();
+            node.points = Vec::new();
+            return;
         }
-        let (cx, cy) = self.cell_of(q);
-        let mut best = (f64::INFINITY, 0usize);
-        let max_ring = self.nx.max(self.ny);
-        for ring in 0..=max_ring {
-            // Every point in ring k is at least (k - 1) cells away from q.
-            let reach = (ring as f64 - 1.0).max(0.0) * self.cell;
-            if reach * reach > best.0 {
-                break;
+    }
+
+    /// The item of the inserted point nearest to `q` (ties: lowest item); 0 when empty.
+    pub fn nearest(&mut self, q: &Point2<f64>) -> usize {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        let q = [q.x, q.y];
+        let mut best = (f64::INFINITY, u32::MAX);
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
+        stack.push((0, 0.0));
+        while let Some((at, bound)) = stack.pop() {
+            if bound > best.0 {
+                continue;
             }
-            self.for_ring(cx, cy, ring, |bucket| {
-                for &i in bucket {
-                    let i = i as usize;
-                    let d = (points[i] - q).norm_squared();
-                    if better(d, i, best) {
+            let node = &self.nodes[at as usize];
+            let [c0, c1] = node.children;
+            if c0 == NONE {
+                for (&i, p) in node.items.iter().zip(&node.points) {
+                    let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
+                    let d = dx * dx + dy * dy;
+                    if d < best.0 || (d == best.0 && i < best.1) {
                         best = (d, i);
                     }
                 }
-            });
-        }
-        best.1
-    }
-
-    fn for_ring(&self, cx: usize, cy: usize, ring: usize, mut visit: impl FnMut(&[u32])) {
-        let (cx, cy, r) = (cx as isize, cy as isize, ring as isize);
-        let (nx, ny) = (self.nx as isize, self.ny as isize);
-        let mut cell = |x: isize, y: isize| {
-            if x >= 0 && y >= 0 && x < nx && y < ny {
-                visit(&self.buckets[(y * nx + x) as usize]);
+                continue;
             }
-        };
-        if r == 0 {
-            cell(cx, cy);
-            return;
+            let b0 = self.nodes[c0 as usize].bound(&q);
+            let b1 = self.nodes[c1 as usize].bound(&q);
+            // Push the farther child first so the nearer is searched first.
+            if b0 <= b1 {
+                stack.push((c1, b1));
+                stack.push((c0, b0));
+            } else {
+                stack.push((c0, b0));
+                stack.push((c1, b1));
+            }
         }
-        for x in (cx - r)..=(cx + r) {
-            cell(x, cy - r);
-            cell(x, cy + r);
-        }
-        for y in (cy - r + 1)..=(cy + r - 1) {
-            cell(cx - r, y);
-            cell(cx + r, y);
-        }
-    }
-
-    fn cell_of(&self, p: &Point2<f64>) -> (usize, usize) {
-        let fx = ((p.x - self.min.x) / self.cell).floor();
-        let fy = ((p.y - self.min.y) / self.cell).floor();
-        let x = if fx.is_nan() {
-            0.0
-        } else {
-            fx.clamp(0.0, (self.nx - 1) as f64)
-        };
-        let y = if fy.is_nan() {
-            0.0
-        } else {
-            fy.clamp(0.0, (self.ny - 1) as f64)
-        };
-        (x as usize, y as usize)
+        self.stack = stack;
+        best.1 as usize
     }
 }
 
@@ -154,7 +210,7 @@ mod tests {
                 })
                 .map(|(i, _)| i)
                 .expect("not empty");
-            assert_eq!(index.nearest(&q, &points), scan);
+            assert_eq!(index.nearest(&q), scan);
         }
     }
 }
