@@ -143,6 +143,21 @@ fn bench_frame(c: &mut Criterion) {
         rayon::current_num_threads()
     );
 
+    // CPU time per frame (user + system, all threads): wall-clock medians on a shared machine
+    // mostly measure the other processes, CPU time measures the sensor.
+    if let Some(before) = process_cpu_seconds() {
+        let frames = 200;
+        for seed in 0..frames {
+            black_box(sensor.capture(&scene, &pose, 0.0, seed));
+        }
+        if let Some(after) = process_cpu_seconds() {
+            eprintln!(
+                "range_frame: {:.2} ms CPU per frame over {frames} frames",
+                (after - before) * 1e3 / frames as f64
+            );
+        }
+    }
+
     let mut seed = 0u64;
     c.bench_function("range_frame_176x144", |b| {
         b.iter(|| {
@@ -161,6 +176,18 @@ fn bench_frame(c: &mut Criterion) {
             one_thread.install(|| black_box(sensor.capture(&scene, black_box(&pose), 0.0, seed)))
         })
     });
+}
+
+/// User + system CPU time of this process so far (s), from /proc (Linux only).
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15 (1-based).
+    let rest = stat.rsplit_once(')')?.1;
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    // Linux reports these in clock ticks of 1/100 s on every common configuration.
+    Some((utime + stime) / 100.0)
 }
 
 criterion_group!(benches, bench_frame);

@@ -28,7 +28,7 @@ use nudge_perception::{CloudFrame, ColourCloud};
 use rand::TryRng;
 use rand_distr::{Distribution, StandardNormal};
 use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
-use rapier3d::geometry::{BroadPhaseBvh, ColliderHandle, ColliderSet, Ray};
+use rapier3d::geometry::{BroadPhaseBvh, Collider, ColliderHandle, ColliderSet, Ray};
 use rapier3d::math::{Pose, Real, Rotation, Vector};
 use rapier3d::parry::query::DefaultQueryDispatcher;
 use rapier3d::pipeline::{QueryFilter, QueryFilterFlags, QueryPipeline};
@@ -182,10 +182,27 @@ impl ColourRangeConfig {
     /// The range noise σ (m) of a return at distance `range` (m) whose surface normal makes
     /// `cos_incidence` with the ray.
     pub fn range_sigma(&self, range: f64, cos_incidence: f64) -> f64 {
-        let distance_term =
-            (range / self.range_sigma_ref_distance).powf(self.range_sigma_distance_exponent);
-        let incidence_term = cos_incidence.powf(-self.range_sigma_incidence_exponent);
-        self.range_sigma_ref * distance_term * incidence_term
+        let distance_term = power(
+            range / self.range_sigma_ref_distance,
+            self.range_sigma_distance_exponent,
+        );
+        let incidence_term = power(cos_incidence, self.range_sigma_incidence_exponent);
+        self.range_sigma_ref * distance_term / incidence_term
+    }
+}
+
+/// `x^e`, with the exponents the noise model uses most spelled out: `powf` per ray is costly.
+fn power(x: f64, e: f64) -> f64 {
+    if e == 2.0 {
+        x * x
+    } else if e == 1.0 {
+        x
+    } else if e == 0.5 {
+        x.sqrt()
+    } else if e == 0.0 {
+        1.0
+    } else {
+        x.powf(e)
     }
 }
 
@@ -382,10 +399,10 @@ struct Frame<'f> {
 }
 
 /// The last collider a row hit, so neighbouring pixels on one surface skip the lookups.
-struct HitCache {
+struct HitCache<'c> {
     handle: ColliderHandle,
     surface: Option<Surface>,
-    collider_pose: Pose,
+    collider: &'c Collider,
 }
 
 impl Frame<'_> {
@@ -402,24 +419,35 @@ impl Frame<'_> {
         for (col, dir) in dirs.iter().enumerate() {
             let world_dir = self.pose.rotation * *dir;
             let ray = Ray::new(self.pose.translation, world_dir);
-            let Some((handle, hit)) = pipeline.cast_ray_and_get_normal(&ray, max_range, true)
-            else {
+            // The BVH's ray cast without normals takes parry's SIMD path; the normal then comes from
+            // the one collider hit.
+            let Some((handle, toi)) = pipeline.cast_ray(&ray, max_range, true) else {
+                continue;
+            };
+            if toi < min_range {
+                continue;
+            }
+            let cached = match cache.take() {
+                Some(c) if c.handle == handle => Some(c),
+                _ => self.scene.colliders.get(handle).map(|co| HitCache {
+                    handle,
+                    surface: (self.scene.surface)(handle),
+                    collider: co,
+                }),
+            };
+            let Some(cached) = cached else { continue };
+            let Some(hit) = cached.collider.shape().cast_ray_and_get_normal(
+                cached.collider.position(),
+                &ray,
+                max_range,
+                true,
+            ) else {
                 continue;
             };
             let cos_incidence = hit.normal.dot(world_dir).abs();
             if hit.time_of_impact < min_range || cos_incidence < self.sensor.min_cos_incidence {
                 continue;
             }
-
-            let cached = match cache.take() {
-                Some(c) if c.handle == handle => Some(c),
-                _ => self.scene.colliders.get(handle).map(|co| HitCache {
-                    handle,
-                    surface: (self.scene.surface)(handle),
-                    collider_pose: *co.position(),
-                }),
-            };
-            let Some(cached) = cached else { continue };
 
             let mut noise = RayRng::new(self.frame_seed, first + col);
             let true_range = f64::from(hit.time_of_impact);
@@ -433,7 +461,10 @@ impl Frame<'_> {
             let base = match &cached.surface {
                 Some(surface) => {
                     let world_hit = ray.origin + world_dir * hit.time_of_impact;
-                    let local = cached.collider_pose.inverse_transform_point(world_hit);
+                    let local = cached
+                        .collider
+                        .position()
+                        .inverse_transform_point(world_hit);
                     let local =
                         Point3::new(f64::from(local.x), f64::from(local.y), f64::from(local.z));
                     surface.colour_at(local, self.scene.texture_seed)
