@@ -5,6 +5,11 @@
 //! sensor and a wrist force/torque sensor; ground truth scores every run. This crate alone knows rapier.
 #![warn(missing_docs)]
 
+pub mod actors;
+pub mod adapter;
+pub mod humanoid;
 pub mod scenario;
 pub mod sensors;
 pub mod surface;
+pub mod truth;
+pub mod world;

@@ -1,3 +1,4 @@
-//! Sensor models: what the simulated robot perceives.
+//! Sensor models: the colour range sensor and the wrist force/torque sensor.
 
 pub mod colour_range;
+pub mod wrist_ft;

@@ -1,0 +1,83 @@
+//! One physics step of the paper's room: a coarse 10 ms step while the robot walks, a fine 1 ms step
+//! while the hand pushes chair-1 (the wrist sensor's rate), and one idle second.
+//!
+//! Each scene is rebuilt (untimed) before its action would end, so every timed step does real work.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use nalgebra::{Point2, Point3};
+use nudge_executive::robot::{Arm, Base, Clock, GuardedMove};
+use nudge_sim::adapter::SimRobot;
+use nudge_sim::scenario::Scenario;
+
+const ROOM: &str = include_str!("../tests/world_common/kakiuchi_room.toml");
+
+fn robot() -> SimRobot {
+    let scenario: Scenario = toml::from_str(ROOM).expect("bench scenario parses");
+    SimRobot::new(&scenario, 1).expect("bench world")
+}
+
+/// The robot walking along the room, 1 s into its walk (which lasts about 9 s more).
+fn walking() -> SimRobot {
+    let mut r = robot();
+    r.start_walk(&[Point2::new(2.0, 1.8)]).expect("walk");
+    r.advance(1.0).expect("start walking");
+    r
+}
+
+/// The robot behind chair-1 with its hand pushing it (about 4 s of push left).
+fn pushing() -> SimRobot {
+    let mut r = robot();
+    r.start_walk(&[
+        Point2::new(1.5, 0.6),
+        Point2::new(3.1, 0.6),
+        Point2::new(3.1, 0.8),
+    ])
+    .expect("walk");
+    r.advance(25.0).expect("walk");
+    r.start_turn(0.0).expect("turn");
+    r.advance(5.0).expect("turn");
+    let push = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.43),
+        to: Point3::new(0.8, 0.0, 0.43),
+        speed: 0.05,
+        force_limit: 40.0,
+    };
+    r.start_guarded_move(push).expect("push");
+    r.advance(3.0).expect("reach the chair");
+    r
+}
+
+/// Times `iters` calls of `advance(dt)`, rebuilding the scene with `make` every `per_scene` calls.
+fn timed_steps(iters: u64, dt: f64, per_scene: u64, make: fn() -> SimRobot) -> Duration {
+    let mut total = Duration::ZERO;
+    let mut r = make();
+    for i in 0..iters {
+        if i > 0 && i % per_scene == 0 {
+            r = make();
+        }
+        let start = Instant::now();
+        r.advance(black_box(dt)).expect("step");
+        total += start.elapsed();
+    }
+    total
+}
+
+fn bench(c: &mut Criterion) {
+    c.bench_function("coarse step (10 ms), robot walking", |b| {
+        b.iter_custom(|n| timed_steps(n, 0.010, 800, walking))
+    });
+    c.bench_function("fine step (1 ms), hand pushing chair-1", |b| {
+        b.iter_custom(|n| timed_steps(n, 0.001, 3500, pushing))
+    });
+    c.bench_function("idle second (everything asleep)", |b| {
+        let mut idle = robot();
+        idle.advance(5.0).expect("settle");
+        b.iter(|| idle.advance(black_box(1.0)).expect("idle"))
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,202 @@
+//! `SimRobot`: the simulated world behind the executive's adapter traits. Time is simulated time
+//! only; actions start here and progress while [`Clock::advance`] steps the physics.
+
+use nalgebra::{Isometry2, Point2, Point3};
+use nudge_executive::robot::{
+    ActionStatus, Arm, Base, Clock, GuardedMove, HandOutcome, Head, RangeCamera, RobotError,
+    Stamped, WalkOutcome, Wrench, WristSensor,
+};
+use nudge_perception::ColourCloud;
+
+use crate::humanoid::walk::Walk;
+use crate::scenario::Scenario;
+use crate::world::{World, WorldError};
+
+/// The simulated robot: owns the world it lives in.
+pub struct SimRobot {
+    world: World,
+    frames: u64,
+}
+
+impl SimRobot {
+    /// A robot in a new world built from `scenario` with `seed`.
+    pub fn new(scenario: &Scenario, seed: u64) -> Result<Self, WorldError> {
+        Ok(Self::from_world(World::new(scenario, seed)?))
+    }
+
+    /// A robot in an existing world.
+    pub fn from_world(world: World) -> Self {
+        Self { world, frames: 0 }
+    }
+
+    /// The world, for ground truth and recording.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The world, mutably (tests, scripted disturbances).
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    /// How many range frames were captured.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    fn stamp<T>(&self, value: T) -> Stamped<T> {
+        Stamped {
+            stamp: self.world.time(),
+            value,
+        }
+    }
+}
+
+fn refused(capability: &'static str) -> impl Fn(crate::humanoid::Refused) -> RobotError {
+    move |e| RobotError::Refused {
+        capability,
+        reason: e.0,
+    }
+}
+
+impl Clock for SimRobot {
+    fn now(&self) -> f64 {
+        self.world.time()
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), RobotError> {
+        self.world.advance(dt).map_err(|e| RobotError::Refused {
+            capability: "clock",
+            reason: e.to_string(),
+        })
+    }
+}
+
+impl Base for SimRobot {
+    fn base_pose(&mut self) -> Result<Stamped<Isometry2<f64>>, RobotError> {
+        Ok(self.stamp(self.world.humanoid().base_pose()))
+    }
+
+    fn start_walk(&mut self, waypoints: &[Point2<f64>]) -> Result<(), RobotError> {
+        self.world
+            .humanoid_mut()
+            .start_walk(waypoints)
+            .map_err(refused("base"))
+    }
+
+    fn start_turn(&mut self, yaw: f64) -> Result<(), RobotError> {
+        self.world
+            .humanoid_mut()
+            .start_turn(yaw)
+            .map_err(refused("base"))
+    }
+
+    fn walk_status(&mut self) -> Result<ActionStatus<WalkOutcome>, RobotError> {
+        Ok(match self.world.humanoid().walk() {
+            Walk::Idle(outcome) => {
+                ActionStatus::Done(outcome.clone().unwrap_or(WalkOutcome::Arrived))
+            }
+            _ => ActionStatus::Running,
+        })
+    }
+
+    fn stop_walk(&mut self) -> Result<(), RobotError> {
+        self.world.humanoid_mut().stop_walk();
+        Ok(())
+    }
+}
+
+impl Head for SimRobot {
+    fn head_angles(&mut self) -> Result<Stamped<(f64, f64)>, RobotError> {
+        let h = self.world.humanoid().head();
+        Ok(self.stamp((h.pan, h.tilt)))
+    }
+
+    fn start_point_head(&mut self, pan: f64, tilt: f64) -> Result<(), RobotError> {
+        self.world
+            .humanoid_mut()
+            .point_head(pan, tilt)
+            .map_err(refused("head"))
+    }
+
+    fn head_status(&mut self) -> Result<ActionStatus<()>, RobotError> {
+        Ok(if self.world.humanoid().head().is_moving() {
+            ActionStatus::Running
+        } else {
+            ActionStatus::Done(())
+        })
+    }
+}
+
+impl WristSensor for SimRobot {
+    fn tare(&mut self) -> Result<(), RobotError> {
+        self.world.tare_wrist();
+        Ok(())
+    }
+
+    fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
+        match self.world.wrist_sensor().latest() {
+            Some(w) => Ok(w),
+            None => {
+                // No sample yet (no time has passed): let one sensor period pass.
+                let period = 1.0 / self.world.wrist_sensor().config().rate_hz;
+                self.world.advance(period).map_err(|e| RobotError::Fault {
+                    capability: "wrist sensor",
+                    reason: e.to_string(),
+                })?;
+                self.world
+                    .wrist_sensor()
+                    .latest()
+                    .ok_or_else(|| RobotError::Fault {
+                        capability: "wrist sensor",
+                        reason: "no reading after one sensor period".into(),
+                    })
+            }
+        }
+    }
+
+    fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
+        Ok(self.world.wrist_sensor().drain())
+    }
+}
+
+impl Arm for SimRobot {
+    fn hand_position(&mut self) -> Result<Stamped<Point3<f64>>, RobotError> {
+        let p = self.world.humanoid().hand_position(self.world.physics());
+        Ok(self.stamp(p))
+    }
+
+    fn start_guarded_move(&mut self, motion: GuardedMove) -> Result<(), RobotError> {
+        self.world
+            .humanoid_mut()
+            .arm_mut()
+            .start_guarded(motion)
+            .map_err(|reason| RobotError::Refused {
+                capability: "arm",
+                reason,
+            })
+    }
+
+    fn start_retract(&mut self) -> Result<(), RobotError> {
+        self.world.humanoid_mut().arm_mut().start_retract();
+        Ok(())
+    }
+
+    fn hand_status(&mut self) -> Result<ActionStatus<HandOutcome>, RobotError> {
+        Ok(self.world.humanoid().arm().status())
+    }
+
+    fn stop_hand(&mut self) -> Result<(), RobotError> {
+        self.world.humanoid_mut().arm_mut().stop();
+        Ok(())
+    }
+}
+
+impl RangeCamera for SimRobot {
+    fn capture(&mut self) -> Result<ColourCloud, RobotError> {
+        Err(RobotError::Unavailable {
+            capability: "range camera",
+            reason: "the colour range sensor model is not wired into the simulation yet".into(),
+        })
+    }
+}

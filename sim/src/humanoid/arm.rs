@@ -1,0 +1,164 @@
+//! The arm: the commanded wrist position in `base_link` and the hand motion that moves it.
+
+use nalgebra::{Point3, Vector3};
+use nudge_executive::robot::{ActionStatus, GuardedMove, HandOutcome, Stamped, Wrench};
+
+/// Reachable hand positions in `base_link` (m): (min, max) per axis.
+pub const WORKSPACE: [(f64, f64); 3] = [(0.2, 0.8), (-0.4, 0.4), (0.2, 1.2)];
+/// The hand's rest pose beside the body, inside the bounding cylinder's footprint (m, `base_link`).
+pub const REST: Point3<f64> = Point3::new(0.22, -0.18, 0.8);
+/// Speed of unguarded moves: to the start of a guarded line, and retracting (m/s).
+pub const FREE_SPEED: f64 = 0.2;
+/// Acceleration of the hand along its line (m/s²): a speed step would shake the hand on its
+/// compliant wrist (0.5 m/s² on the 0.5 kg hand is 0.25 N).
+pub const HAND_ACCEL: f64 = 0.5;
+/// Fastest guarded move accepted (m/s).
+pub const MAX_GUARDED_SPEED: f64 = 0.5;
+
+/// What the hand is doing.
+#[derive(Clone, Debug, PartialEq)]
+enum Motion {
+    /// Holding the commanded position.
+    Hold,
+    /// Going (unguarded, slowly) to the start of a guarded line.
+    Approach(GuardedMove),
+    /// Moving along a guarded line.
+    Guarded(GuardedMove),
+    /// Going back to the rest pose.
+    Retract,
+}
+
+/// The arm's command state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Arm {
+    /// Commanded wrist position in `base_link` (m).
+    pub command: Point3<f64>,
+    speed: f64,
+    motion: Motion,
+    outcome: Option<HandOutcome>,
+}
+
+impl Default for Arm {
+    fn default() -> Self {
+        Self {
+            command: REST,
+            speed: 0.0,
+            motion: Motion::Hold,
+            outcome: None,
+        }
+    }
+}
+
+/// Whether a point is inside the hand workspace.
+pub fn in_workspace(p: &Point3<f64>) -> bool {
+    (0..3).all(|i| p[i].is_finite() && (WORKSPACE[i].0..=WORKSPACE[i].1).contains(&p[i]))
+}
+
+impl Arm {
+    /// Starts a guarded move, or says why not.
+    pub fn start_guarded(&mut self, m: GuardedMove) -> Result<(), String> {
+        if !in_workspace(&m.from) || !in_workspace(&m.to) {
+            return Err(format!(
+                "line {:?} → {:?} leaves the hand workspace {WORKSPACE:?}",
+                m.from, m.to
+            ));
+        }
+        if !(m.speed.is_finite() && m.speed > 0.0 && m.speed <= MAX_GUARDED_SPEED) {
+            return Err(format!(
+                "speed {} outside (0, {MAX_GUARDED_SPEED}] m/s",
+                m.speed
+            ));
+        }
+        if !(m.force_limit.is_finite() && m.force_limit > 0.0) {
+            return Err(format!("force limit {} must be positive", m.force_limit));
+        }
+        self.motion = Motion::Approach(m);
+        self.outcome = None;
+        Ok(())
+    }
+
+    /// Starts going back to the rest pose.
+    pub fn start_retract(&mut self) {
+        self.motion = Motion::Retract;
+        self.outcome = None;
+    }
+
+    /// Stops the hand where it is.
+    pub fn stop(&mut self) {
+        if self.motion != Motion::Hold {
+            self.motion = Motion::Hold;
+            self.speed = 0.0;
+            self.outcome = Some(HandOutcome::Stopped);
+        }
+    }
+
+    /// Whether the hand is being moved.
+    pub fn is_moving(&self) -> bool {
+        self.motion != Motion::Hold
+    }
+
+    /// The force limit of the guarded line under way, if the hand is on one.
+    pub fn guard(&self) -> Option<f64> {
+        match &self.motion {
+            Motion::Guarded(m) => Some(m.force_limit),
+            _ => None,
+        }
+    }
+
+    /// Ends a guarded move at the force limit: the wrist stays where it is now.
+    pub fn force_limit_reached(&mut self, wrench: Stamped<Wrench>, at: Point3<f64>) {
+        self.motion = Motion::Hold;
+        self.speed = 0.0;
+        self.outcome = Some(HandOutcome::ForceLimit { wrench, at });
+    }
+
+    /// The motion's state.
+    pub fn status(&self) -> ActionStatus<HandOutcome> {
+        match (&self.motion, &self.outcome) {
+            (Motion::Hold, Some(o)) => ActionStatus::Done(o.clone()),
+            (Motion::Hold, None) => ActionStatus::Done(HandOutcome::Reached),
+            _ => ActionStatus::Running,
+        }
+    }
+
+    /// Advances the commanded wrist position by `dt` seconds.
+    pub fn step(&mut self, dt: f64) {
+        match self.motion.clone() {
+            Motion::Hold => {}
+            Motion::Approach(m) => {
+                if self.move_towards(m.from, FREE_SPEED, dt) {
+                    self.motion = Motion::Guarded(m);
+                }
+            }
+            Motion::Guarded(m) => {
+                if self.move_towards(m.to, m.speed, dt) {
+                    self.motion = Motion::Hold;
+                    self.outcome = Some(HandOutcome::Reached);
+                }
+            }
+            Motion::Retract => {
+                if self.move_towards(REST, FREE_SPEED, dt) {
+                    self.motion = Motion::Hold;
+                    self.outcome = Some(HandOutcome::Reached);
+                }
+            }
+        }
+    }
+
+    /// Moves the command towards `target` at up to `max_speed`, ramping the speed up and down;
+    /// true when it got there (and stopped).
+    fn move_towards(&mut self, target: Point3<f64>, max_speed: f64, dt: f64) -> bool {
+        let d: Vector3<f64> = target - self.command;
+        let n = d.norm();
+        self.speed = crate::humanoid::walk::ramp(self.speed, max_speed, HAND_ACCEL, n, dt);
+        let step = self.speed * dt;
+        if n <= step {
+            self.command = target;
+            self.speed = 0.0;
+            true
+        } else {
+            self.command += d * (step / n);
+            false
+        }
+    }
+}

@@ -1,0 +1,321 @@
+//! The HRP-2-like humanoid: a kinematic bounding cylinder that walks, a pan/tilt head carrying the
+//! range sensor, and one arm whose kinematic wrist drags a small dynamic hand through a compliant
+//! wrist joint (the F/T sensor reads that joint).
+
+pub mod arm;
+pub mod head;
+pub mod walk;
+
+use std::collections::HashMap;
+
+use nalgebra::{Isometry2, Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector3};
+use rapier3d::prelude::*;
+
+use crate::scenario::{RobotSpec, Texture};
+use crate::surface::{Owner, Surface};
+use crate::world::build::groups;
+use crate::world::convert::{iso_from_pose, pose_from_iso};
+use arm::Arm;
+use head::Head;
+use walk::{Rates, Walk, WalkParams};
+
+/// Height of the head's pan/tilt centre above the floor (m).
+pub const HEAD_HEIGHT: f64 = 1.4;
+/// Head joint speed per axis (rad/s).
+pub const HEAD_RATE: f64 = 1.0;
+/// Turning rate of the base (rad/s).
+pub const TURN_RATE: f64 = 0.5;
+/// Distance the walking body keeps from obstacles (m).
+pub const SAFETY_MARGIN: f64 = 0.015;
+/// Mass of the hand (kg).
+pub const HAND_MASS: f64 = 0.5;
+/// Half extents of the hand box: 4 cm thick along x (the palm faces forward), 10 × 10 cm (m).
+pub const HAND_HALF: [f32; 3] = [0.02, 0.05, 0.05];
+/// Stiffness of the wrist's linear compliance (N/m): arm and sensor are not infinitely stiff, and a
+/// rigid wrist driven kinematically into a fixed obstacle would read an arbitrary solver force.
+/// 20 kN/m makes a 0.1 m/s push rise by at most 2 N per 1 ms step.
+pub const WRIST_STIFFNESS: f64 = 20_000.0;
+/// Damping of the wrist compliance, near critical for the hand's mass (N·s/m).
+pub const WRIST_DAMPING: f64 = 200.0;
+/// Colour of the robot's parts as the range sensor sees them.
+const ROBOT_COLOUR: [u8; 3] = [230, 230, 235];
+
+/// Why a command was refused.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[error("{0}")]
+pub struct Refused(pub String);
+
+/// Handles of the robot's rapier parts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Parts {
+    /// The kinematic bounding cylinder's body.
+    pub body: RigidBodyHandle,
+    /// The bounding cylinder.
+    pub body_collider: ColliderHandle,
+    /// The kinematic wrist (no collider).
+    pub wrist: RigidBodyHandle,
+    /// The dynamic hand.
+    pub hand: RigidBodyHandle,
+    /// The hand's box.
+    pub hand_collider: ColliderHandle,
+    /// The compliant wrist joint (wrist → hand) the F/T sensor reads.
+    pub joint: ImpulseJointHandle,
+}
+
+/// The humanoid's state and its rapier parts.
+#[derive(Clone, Debug)]
+pub struct Humanoid {
+    parts: Parts,
+    base: Isometry2<f64>,
+    walk: Walk,
+    rates: Rates,
+    params: WalkParams,
+    head: Head,
+    arm: Arm,
+}
+
+impl Humanoid {
+    /// Builds the robot's parts in `physics` at its start pose and registers their surfaces.
+    pub fn new(
+        spec: &RobotSpec,
+        physics: &mut PhysicsWorld,
+        surfaces: &mut HashMap<ColliderHandle, Surface>,
+    ) -> Result<Self, Refused> {
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if !(ok(spec.radius)
+            && ok(spec.height)
+            && ok(spec.walk_speed)
+            && spec.start.iter().all(|v| v.is_finite()))
+        {
+            return Err(Refused(format!("robot spec has invalid numbers: {spec:?}")));
+        }
+        if spec.height <= HEAD_HEIGHT * 0.5 {
+            return Err(Refused(format!("robot height {} too small", spec.height)));
+        }
+        let base = Isometry2::new(
+            nalgebra::Vector2::new(spec.start[0], spec.start[1]),
+            spec.start[2].to_radians(),
+        );
+        let arm = Arm::default();
+        let surface = Surface {
+            colour: ROBOT_COLOUR,
+            texture: Texture::Plain,
+            owner: Owner::Robot,
+        };
+
+        let body = physics.bodies.insert(
+            RigidBodyBuilder::kinematic_position_based()
+                .pose(pose_from_iso(&base3(&base)))
+                .build(),
+        );
+        let cylinder = ColliderBuilder::cylinder(spec.height as f32 / 2.0, spec.radius as f32)
+            .position(Pose::from_parts(
+                Vector::new(0.0, 0.0, spec.height as f32 / 2.0),
+                Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
+            ))
+            .collision_groups(InteractionGroups::new(
+                groups::ROBOT_BODY,
+                groups::OBJECT | groups::ACTOR,
+                InteractionTestMode::And,
+            ))
+            .build();
+        let body_collider =
+            physics
+                .colliders
+                .insert_with_parent(cylinder, body, &mut physics.bodies);
+
+        let wrist_pose = pose_from_iso(&wrist_in_map(&base, &arm.command));
+        let wrist = physics.bodies.insert(
+            RigidBodyBuilder::kinematic_position_based()
+                .pose(wrist_pose)
+                .build(),
+        );
+        let hand = physics
+            .bodies
+            .insert(RigidBodyBuilder::dynamic().pose(wrist_pose).build());
+        let hand_box = ColliderBuilder::cuboid(HAND_HALF[0], HAND_HALF[1], HAND_HALF[2])
+            .mass(HAND_MASS as f32)
+            .friction(0.5)
+            .collision_groups(InteractionGroups::new(
+                groups::HAND,
+                groups::FLOOR | groups::WALL | groups::OBJECT | groups::ACTOR,
+                InteractionTestMode::And,
+            ))
+            .build();
+        let hand_collider =
+            physics
+                .colliders
+                .insert_with_parent(hand_box, hand, &mut physics.bodies);
+        let mut joint = GenericJointBuilder::new(JointAxesMask::ANG_AXES).contacts_enabled(false);
+        for axis in [JointAxis::LinX, JointAxis::LinY, JointAxis::LinZ] {
+            joint = joint
+                .motor_model(axis, MotorModel::ForceBased)
+                .motor_position(axis, 0.0, WRIST_STIFFNESS as f32, WRIST_DAMPING as f32);
+        }
+        let joint = physics
+            .impulse_joints
+            .insert(wrist, hand, joint.build(), true);
+
+        surfaces.insert(body_collider, surface);
+        surfaces.insert(hand_collider, surface);
+        Ok(Self {
+            parts: Parts {
+                body,
+                body_collider,
+                wrist,
+                hand,
+                hand_collider,
+                joint,
+            },
+            base,
+            walk: Walk::Idle(None),
+            rates: Rates::default(),
+            params: WalkParams {
+                speed: spec.walk_speed,
+                turn_rate: TURN_RATE,
+                radius: spec.radius,
+                height: spec.height,
+                margin: SAFETY_MARGIN,
+            },
+            head: Head::new(HEAD_HEIGHT, HEAD_RATE),
+            arm,
+        })
+    }
+
+    /// Handles of the robot's rapier parts.
+    pub fn parts(&self) -> &Parts {
+        &self.parts
+    }
+
+    /// Base pose (`base_link` in map).
+    pub fn base_pose(&self) -> Isometry2<f64> {
+        self.base
+    }
+
+    /// The range sensor's pose in the map: x along the optical axis, y left, z up.
+    pub fn sensor_pose(&self) -> Isometry3<f64> {
+        self.head.sensor_pose(&self.base)
+    }
+
+    /// The walk state.
+    pub fn walk(&self) -> &Walk {
+        &self.walk
+    }
+
+    /// The head state.
+    pub fn head(&self) -> &Head {
+        &self.head
+    }
+
+    /// The arm's command state.
+    pub fn arm(&self) -> &Arm {
+        &self.arm
+    }
+
+    /// The arm's command state, to start and stop hand motions.
+    pub fn arm_mut(&mut self) -> &mut Arm {
+        &mut self.arm
+    }
+
+    /// Starts walking through `waypoints` (map frame); replaces any walk or turn under way.
+    pub fn start_walk(&mut self, waypoints: &[Point2<f64>]) -> Result<(), Refused> {
+        if waypoints
+            .iter()
+            .any(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            return Err(Refused("waypoints must be finite".into()));
+        }
+        self.walk = Walk::Path(waypoints.iter().copied().collect());
+        Ok(())
+    }
+
+    /// Starts turning on the spot to `yaw` (rad, map).
+    pub fn start_turn(&mut self, yaw: f64) -> Result<(), Refused> {
+        if !yaw.is_finite() {
+            return Err(Refused("yaw must be finite".into()));
+        }
+        self.walk = Walk::Turn(walk::wrap(yaw));
+        Ok(())
+    }
+
+    /// Stops walking at once (a kinematic body can).
+    pub fn stop_walk(&mut self) {
+        if !matches!(self.walk, Walk::Idle(_)) {
+            self.rates = Rates::default();
+            self.walk = Walk::Idle(Some(nudge_executive::robot::WalkOutcome::Stopped));
+        }
+    }
+
+    /// Starts moving the head, or refuses angles outside its limits.
+    pub fn point_head(&mut self, pan: f64, tilt: f64) -> Result<(), Refused> {
+        if !Head::within_limits(pan, tilt) {
+            return Err(Refused(format!(
+                "head angles ({pan}, {tilt}) outside pan {:?} tilt {:?}",
+                head::PAN_LIMITS,
+                head::TILT_LIMITS
+            )));
+        }
+        self.head.point(pan, tilt);
+        Ok(())
+    }
+
+    /// Whether anything of the robot is being moved (walk, head, hand).
+    pub fn is_moving(&self) -> bool {
+        !matches!(self.walk, Walk::Idle(_)) || self.head.is_moving() || self.arm.is_moving()
+    }
+
+    /// The hand's position in `base_link` (m).
+    pub fn hand_position(&self, physics: &PhysicsWorld) -> Point3<f64> {
+        let hand = physics
+            .bodies
+            .get(self.parts.hand)
+            .map(|b| iso_from_pose(b.position()))
+            .unwrap_or_else(|| wrist_in_map(&self.base, &self.arm.command));
+        base3(&self.base).inverse_transform_point(&Point3::from(hand.translation.vector))
+    }
+
+    /// The hand's position in the map (m).
+    pub fn hand_in_map(&self, physics: &PhysicsWorld) -> Point3<f64> {
+        base3(&self.base) * self.hand_position(physics)
+    }
+
+    /// Moves walk, head and arm by `dt` seconds and sets the kinematic targets of body and wrist.
+    pub fn pre_step(&mut self, dt: f64, physics: &mut PhysicsWorld) {
+        let moving = self.is_moving();
+        self.base = walk::step(
+            &mut self.walk,
+            &mut self.rates,
+            self.base,
+            &self.params,
+            dt,
+            physics,
+        );
+        self.head.step(dt);
+        self.arm.step(dt);
+        if !moving {
+            return;
+        }
+        let body_pose = pose_from_iso(&base3(&self.base));
+        let wrist_pose = pose_from_iso(&wrist_in_map(&self.base, &self.arm.command));
+        if let Some(b) = physics.bodies.get_mut(self.parts.body) {
+            b.set_next_kinematic_position(body_pose);
+        }
+        if let Some(w) = physics.bodies.get_mut(self.parts.wrist) {
+            w.set_next_kinematic_position(wrist_pose);
+        }
+        physics.wake_up(self.parts.hand, true);
+    }
+}
+
+/// The base pose as a 3-D isometry on the floor.
+fn base3(base: &Isometry2<f64>) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(base.translation.x, base.translation.y, 0.0),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), base.rotation.angle()),
+    )
+}
+
+/// The wrist pose in the map for a base pose and a wrist position in `base_link`.
+fn wrist_in_map(base: &Isometry2<f64>, wrist: &Point3<f64>) -> Isometry3<f64> {
+    base3(base) * Isometry3::translation(wrist.x, wrist.y, wrist.z)
+}

@@ -1,0 +1,122 @@
+//! Ground truth for scoring a run: where objects really are, which really move, and what a map
+//! point really is now.
+//!
+//! Movability rule: an object is [`Movability::Movable`] when it is a dynamic body (not bolted, not
+//! lifted) and the force to slide it, μ·m·g, is below 80 % of the push force limit
+//! ([`PUSH_FORCE_LIMIT`], the paper's 20 N) — the margin keeps borderline objects out of the score.
+//! Everything else is [`Movability::Static`]: it would not move under a guarded push.
+
+use nalgebra::{Isometry3, Point2, Point3};
+
+use crate::scenario::ObjectKind;
+use crate::world::World;
+
+/// The guarded push's force limit (N), the paper's 20 N.
+pub const PUSH_FORCE_LIMIT: f64 = 20.0;
+/// Fraction of the push limit a movable object's sliding force must stay below.
+pub const MOVABLE_MARGIN: f64 = 0.8;
+/// Objects faster than this are moving (m/s).
+pub const MOVING_SPEED: f64 = 0.05;
+/// Objects whose top is at most this high are flat on the floor and not obstacles (m).
+pub const FLAT: f64 = 0.02;
+/// Standard gravity (m/s²).
+const G: f64 = 9.81;
+
+/// Whether an object moves when pushed with the guarded push.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Movability {
+    /// It slides under a push below the force limit.
+    Movable,
+    /// It does not: bolted, lifted, or too heavy.
+    Static,
+}
+
+/// The true class of a map point now.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrueClass {
+    /// Nothing there (the robot's own body does not count).
+    Free,
+    /// Walls, outside the room, static objects.
+    Stationary,
+    /// A movable object at rest.
+    Movable,
+    /// An actor, or an object moving faster than [`MOVING_SPEED`].
+    Moving,
+}
+
+/// Ground-truth queries on a world.
+pub struct Truth<'a> {
+    world: &'a World,
+}
+
+impl<'a> Truth<'a> {
+    /// Ground truth of `world` at its current time.
+    pub fn new(world: &'a World) -> Self {
+        Self { world }
+    }
+
+    /// The true pose of object `i` (footprint centre on its underside), or `None` if there is none.
+    pub fn object_pose(&self, i: usize) -> Option<Isometry3<f64>> {
+        self.world.object_pose(i)
+    }
+
+    /// The true movability of object `i`, by the rule in the module docs.
+    pub fn movability(&self, i: usize) -> Option<Movability> {
+        let (spec, _) = self.world.objects().get(i)?;
+        let dynamic = !crate::world::build::is_fixed(spec);
+        let slide = spec.friction * spec.mass * G;
+        Some(if dynamic && slide < MOVABLE_MARGIN * PUSH_FORCE_LIMIT {
+            Movability::Movable
+        } else {
+            Movability::Static
+        })
+    }
+
+    /// The true class of the map point `p` now.
+    pub fn true_class_at(&self, p: Point2<f64>) -> TrueClass {
+        let room = &self.world_room();
+        if !(p.x > 0.0 && p.y > 0.0 && p.x < room[0] && p.y < room[1]) {
+            return TrueClass::Stationary;
+        }
+        for a in self.world.actors() {
+            if (a.state().position - p).norm() <= a.spec.radius {
+                return TrueClass::Moving;
+            }
+        }
+        let robot_height = self.world.humanoid_height();
+        for (i, (spec, _)) in self.world.objects().iter().enumerate() {
+            let top = spec.elevation
+                + if spec.kind == ObjectKind::Cylinder {
+                    spec.size[1]
+                } else {
+                    spec.size[2]
+                };
+            if top <= FLAT || spec.elevation >= robot_height {
+                continue;
+            }
+            let Some(pose) = self.world.object_pose(i) else {
+                continue;
+            };
+            let local = pose.inverse_transform_point(&Point3::new(p.x, p.y, pose.translation.z));
+            let inside = match spec.kind {
+                ObjectKind::Cylinder => local.x.hypot(local.y) <= spec.size[0] / 2.0,
+                _ => local.x.abs() <= spec.size[0] / 2.0 && local.y.abs() <= spec.size[1] / 2.0,
+            };
+            if !inside {
+                continue;
+            }
+            let moving = self.world.object_speed(i).is_some_and(|s| s > MOVING_SPEED)
+                || self.world.actors().iter().any(|a| a.carrying() == Some(i));
+            return match (moving, self.movability(i)) {
+                (true, _) => TrueClass::Moving,
+                (false, Some(Movability::Movable)) => TrueClass::Movable,
+                _ => TrueClass::Stationary,
+            };
+        }
+        TrueClass::Free
+    }
+
+    fn world_room(&self) -> [f64; 2] {
+        self.world.room_size()
+    }
+}

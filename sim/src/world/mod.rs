@@ -1,0 +1,320 @@
+//! The simulated world: a rapier scene built from a scenario (Z up), with the humanoid, the actors
+//! and the wrist sensor, advanced in physics steps whose length adapts to what is going on.
+//!
+//! Stepping: 1 ms steps while the hand is moving or touching something (the wrist sensor and the
+//! guarded-move check run every step), 10 ms steps otherwise, aligned to a 10 ms grid; when nothing
+//! is commanded to move and every dynamic body sleeps, time passes without a physics step.
+
+pub mod build;
+pub mod convert;
+
+use std::collections::HashMap;
+
+use nalgebra::Isometry3;
+use nudge_executive::robot::{Stamped, Wrench};
+use rapier3d::prelude::*;
+
+use crate::actors::Actor;
+use crate::humanoid::Humanoid;
+use crate::scenario::{ObjectSpec, Scenario};
+use crate::sensors::wrist_ft::{WristFt, WristFtConfig, WristFtError, wrench_on_wrist};
+use crate::surface::Surface;
+use convert::iso_from_pose;
+
+/// Physics step while the hand moves or touches (µs): the wrist sensor's 1 kHz.
+pub const FINE_STEP_US: u64 = 1_000;
+/// Physics step otherwise (µs).
+pub const COARSE_STEP_US: u64 = 10_000;
+
+/// Why a world could not be built or advanced.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum WorldError {
+    /// The room's numbers are unusable.
+    #[error("invalid room: {0}")]
+    InvalidRoom(String),
+    /// An object's numbers are unusable.
+    #[error("invalid object {name}: {reason}")]
+    InvalidObject {
+        /// The object's name.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// An actor's numbers are unusable.
+    #[error("invalid actor {name}: {reason}")]
+    InvalidActor {
+        /// The actor's name.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The robot's numbers are unusable.
+    #[error("invalid robot: {0}")]
+    InvalidRobot(String),
+    /// The wrist sensor's parameters are unusable.
+    #[error(transparent)]
+    WristSensor(#[from] WristFtError),
+    /// A time step was negative or not finite.
+    #[error("invalid time step {0}")]
+    InvalidStep(f64),
+}
+
+/// The simulated world.
+pub struct World {
+    physics: PhysicsWorld,
+    surfaces: HashMap<ColliderHandle, Surface>,
+    objects: Vec<(ObjectSpec, RigidBodyHandle)>,
+    actors: Vec<Actor>,
+    humanoid: Humanoid,
+    wrist_ft: WristFt,
+    /// The true wrench on the wrist during the last physics step.
+    wrist_truth: Wrench,
+    time_us: u64,
+    seed: u64,
+    steps: u64,
+    room_size: [f64; 2],
+    robot_height: f64,
+}
+
+impl World {
+    /// Builds the scenario's world; `seed` fixes every random choice (sensor noise, textures).
+    pub fn new(scenario: &Scenario, seed: u64) -> Result<Self, WorldError> {
+        Self::with_wrist_config(scenario, seed, WristFtConfig::default())
+    }
+
+    /// Like [`World::new`] with a chosen wrist sensor.
+    pub fn with_wrist_config(
+        scenario: &Scenario,
+        seed: u64,
+        wrist: WristFtConfig,
+    ) -> Result<Self, WorldError> {
+        let room = &scenario.room;
+        if !(room.size.iter().all(|s| s.is_finite() && *s > 0.0)
+            && room.wall_height.is_finite()
+            && room.wall_height > 0.0)
+        {
+            return Err(WorldError::InvalidRoom(format!(
+                "size {:?}, wall height {}",
+                room.size, room.wall_height
+            )));
+        }
+        let mut physics = PhysicsWorld::new();
+        physics.gravity = Vector::new(0.0, 0.0, -9.81);
+        physics.integration_parameters.dt = (COARSE_STEP_US as f64 * 1.0e-6) as f32;
+        // One Coulomb cone per contact point: the simplified model under-reads a sliding chair's
+        // friction (μ m g is what the push test measures).
+        physics.integration_parameters.friction_model = FrictionModel::Coulomb;
+        let mut surfaces = HashMap::new();
+        build::build_room(room, &mut physics.colliders, &mut surfaces);
+        let mut objects = Vec::with_capacity(scenario.objects.len());
+        for (i, spec) in scenario.objects.iter().enumerate() {
+            let body = build::build_object(
+                i,
+                spec,
+                &mut physics.bodies,
+                &mut physics.colliders,
+                &mut surfaces,
+            )?;
+            objects.push((spec.clone(), body));
+        }
+        let humanoid = Humanoid::new(&scenario.robot, &mut physics, &mut surfaces)
+            .map_err(|e| WorldError::InvalidRobot(e.0))?;
+        let mut actors = Vec::with_capacity(scenario.actors.len());
+        for (i, spec) in scenario.actors.iter().enumerate() {
+            actors.push(Actor::new(i, spec, &objects, &mut physics, &mut surfaces)?);
+        }
+        let wrist_ft = WristFt::new(wrist, seed)?;
+        let mut world = Self {
+            physics,
+            surfaces,
+            objects,
+            actors,
+            humanoid,
+            wrist_ft,
+            wrist_truth: Wrench::default(),
+            time_us: 0,
+            seed,
+            steps: 0,
+            room_size: room.size,
+            robot_height: scenario.robot.height,
+        };
+        // Settle contacts and fill the query structures before anyone senses.
+        world.physics.integration_parameters.dt = 0.0;
+        world.physics.step();
+        Ok(world)
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.time_us as f64 * 1.0e-6
+    }
+
+    /// The seed the world was built with.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Number of physics steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The room's extent along x and y (m); its corner is at the origin.
+    pub fn room_size(&self) -> [f64; 2] {
+        self.room_size
+    }
+
+    /// Height of the robot's bounding cylinder (m).
+    pub fn humanoid_height(&self) -> f64 {
+        self.robot_height
+    }
+
+    /// The rapier bodies.
+    pub fn bodies(&self) -> &RigidBodySet {
+        &self.physics.bodies
+    }
+
+    /// The rapier colliders.
+    pub fn colliders(&self) -> &ColliderSet {
+        &self.physics.colliders
+    }
+
+    /// The whole rapier world (broad phase and narrow phase for scene queries).
+    pub fn physics(&self) -> &PhysicsWorld {
+        &self.physics
+    }
+
+    /// The whole rapier world, mutably: for tests and scripted disturbances. Moving bodies behind the
+    /// world's back is the caller's responsibility.
+    pub fn physics_mut(&mut self) -> &mut PhysicsWorld {
+        &mut self.physics
+    }
+
+    /// Appearance and owner of a collider.
+    pub fn surface(&self, handle: ColliderHandle) -> Option<Surface> {
+        self.surfaces.get(&handle).copied()
+    }
+
+    /// The scenario objects with their bodies, in scenario order.
+    pub fn objects(&self) -> &[(ObjectSpec, RigidBodyHandle)] {
+        &self.objects
+    }
+
+    /// The actors, in scenario order.
+    pub fn actors(&self) -> &[Actor] {
+        &self.actors
+    }
+
+    /// The robot.
+    pub fn humanoid(&self) -> &Humanoid {
+        &self.humanoid
+    }
+
+    /// The robot, to command it.
+    pub fn humanoid_mut(&mut self) -> &mut Humanoid {
+        &mut self.humanoid
+    }
+
+    /// The wrist sensor.
+    pub fn wrist_sensor(&mut self) -> &mut WristFt {
+        &mut self.wrist_ft
+    }
+
+    /// The true wrench on the wrist during the last physics step (no bias, no noise).
+    pub fn wrist_truth(&self) -> Wrench {
+        self.wrist_truth
+    }
+
+    /// Zeroes the wrist sensor on its recent readings.
+    pub fn tare_wrist(&mut self) {
+        let truth = self.wrist_truth;
+        self.wrist_ft.tare(&truth);
+    }
+
+    /// The pose of object `i` (its frame: footprint centre on its underside), or `None` if no such object.
+    pub fn object_pose(&self, i: usize) -> Option<Isometry3<f64>> {
+        let (_, body) = self.objects.get(i)?;
+        self.physics
+            .bodies
+            .get(*body)
+            .map(|b| iso_from_pose(b.position()))
+    }
+
+    /// The speed of object `i`'s centre of mass (m/s).
+    pub fn object_speed(&self, i: usize) -> Option<f64> {
+        let (_, body) = self.objects.get(i)?;
+        let b = self.physics.bodies.get(*body)?;
+        Some(f64::from(b.linvel().length()))
+    }
+
+    /// Lets `dt` seconds of simulated time pass, in physics steps that suit what is going on.
+    pub fn advance(&mut self, dt: f64) -> Result<(), WorldError> {
+        if !(dt.is_finite() && dt >= 0.0) {
+            return Err(WorldError::InvalidStep(dt));
+        }
+        let target = self.time_us + (dt * 1.0e6).round() as u64;
+        while self.time_us < target {
+            let grid = if self.needs_fine_steps() {
+                FINE_STEP_US
+            } else {
+                COARSE_STEP_US
+            };
+            let h = (grid - self.time_us % grid).min(target - self.time_us);
+            self.step(h);
+        }
+        Ok(())
+    }
+
+    /// Whether the hand is moving or touching something: then the sensor needs every millisecond.
+    fn needs_fine_steps(&self) -> bool {
+        let hand = self.humanoid.parts().hand_collider;
+        self.humanoid.arm().is_moving()
+            || self
+                .physics
+                .narrow_phase
+                .contact_pairs_with(hand)
+                .any(|p| p.has_any_active_contact())
+    }
+
+    /// One physics step of `h_us` microseconds.
+    fn step(&mut self, h_us: u64) {
+        let h = h_us as f64 * 1.0e-6;
+        let t1 = self.time_us + h_us;
+        for actor in &mut self.actors {
+            actor.update(t1 as f64 * 1.0e-6, &mut self.physics);
+        }
+        self.humanoid.pre_step(h, &mut self.physics);
+        let commanded = self.humanoid.is_moving() || self.actors.iter().any(|a| a.is_moving());
+        let awake = self
+            .physics
+            .islands
+            .active_bodies()
+            .any(|b| self.physics.bodies.get(b).is_some_and(|b| b.is_dynamic()));
+        if commanded || awake {
+            self.physics.integration_parameters.dt = h as f32;
+            self.physics.step();
+            self.steps += 1;
+            let substeps = self.physics.integration_parameters.num_solver_iterations;
+            if let Some(joint) = self.physics.impulse_joints.get(self.humanoid.parts().joint) {
+                self.wrist_truth = wrench_on_wrist(joint, substeps, h);
+            }
+        }
+        let truth = self.wrist_truth;
+        let reading = self.wrist_ft.record(&truth, self.time_us, t1);
+        self.time_us = t1;
+        self.check_guard(reading);
+    }
+
+    /// Stops a guarded move the moment the tared force reaches its limit.
+    fn check_guard(&mut self, reading: Stamped<Wrench>) {
+        let Some(limit) = self.humanoid.arm().guard() else {
+            return;
+        };
+        if reading.value.force_norm() < limit {
+            return;
+        }
+        let at = self.humanoid.hand_position(&self.physics);
+        let arm = self.humanoid.arm_mut();
+        arm.force_limit_reached(reading, at);
+    }
+}

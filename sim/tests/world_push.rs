@@ -1,0 +1,138 @@
+//! Guarded pushes against ground truth: a sliding chair and a bolted table.
+mod world_common;
+
+use nalgebra::Point3;
+use nudge_executive::robot::{ActionStatus, Arm, Clock, GuardedMove, HandOutcome, WristSensor};
+use nudge_sim::adapter::SimRobot;
+use world_common::*;
+
+/// One millisecond of a push: time, tared force norm, hand x in `base_link`.
+struct Sample {
+    t: f64,
+    force: f64,
+    hand_x: f64,
+}
+
+/// Settles, tares, runs `motion` to its end in 1 ms ticks and returns the trace and the outcome.
+fn push(robot: &mut SimRobot, motion: GuardedMove) -> (Vec<Sample>, HandOutcome) {
+    robot.advance(0.5).expect("settle");
+    robot.tare().expect("tare");
+    robot.drain_wrenches().expect("drain");
+    robot.start_guarded_move(motion).expect("move accepted");
+    let mut trace = Vec::new();
+    for _ in 0..20_000 {
+        robot.advance(0.001).expect("advance");
+        let hand = robot.hand_position().expect("hand").value;
+        for w in robot.drain_wrenches().expect("drain") {
+            trace.push(Sample {
+                t: w.stamp,
+                force: w.value.force_norm(),
+                hand_x: hand.x,
+            });
+        }
+        if let ActionStatus::Done(outcome) = robot.hand_status().expect("status") {
+            return (trace, outcome);
+        }
+    }
+    panic!("push did not end in 20 s");
+}
+
+#[test]
+fn sliding_chair_reads_its_friction_force() {
+    // While a 4 kg chair with μ = 0.4 slides, the wrist force is within 20 % of μ m g, and it does not tip.
+    let s = robot_and(
+        "name = \"chair\"\nkind = \"chair\"\nposition = [1.8, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 4.0\nfriction = 0.4\ncolour = [40, 120, 200]",
+    );
+    let mut robot = SimRobot::new(&s, 3).expect("world");
+    let start = robot.world().object_pose(0).expect("chair");
+    let motion = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.43),
+        to: Point3::new(0.75, 0.0, 0.43),
+        speed: 0.05,
+        force_limit: 40.0,
+    };
+    let (trace, outcome) = push(&mut robot, motion);
+    assert_eq!(outcome, HandOutcome::Reached);
+    let end = robot.world().object_pose(0).expect("chair");
+    let moved = end.translation.vector - start.translation.vector;
+    assert!(moved.x > 0.15, "chair moved {moved:?}");
+    // Tilt of the chair's z axis from vertical.
+    let up = end.rotation * nalgebra::Vector3::z();
+    assert!(up.z > 0.99, "chair tipped: up = {up:?}");
+    // Sliding: from 0.5 s after first contact until the hand stops.
+    let contact = trace.iter().find(|s| s.force > 1.0).expect("contact").t;
+    let approach_peak = trace
+        .iter()
+        .filter(|s| s.t < contact)
+        .map(|s| s.force)
+        .fold(0.0, f64::max);
+    assert!(
+        approach_peak <= 1.0,
+        "free hand motion read {approach_peak} N"
+    );
+    let stop = trace.last().expect("trace").t;
+    let sliding: Vec<f64> = trace
+        .iter()
+        .filter(|s| s.t > contact + 0.5 && s.t < stop - 0.05)
+        .map(|s| s.force)
+        .collect();
+    assert!(
+        sliding.len() > 1000,
+        "only {} sliding samples",
+        sliding.len()
+    );
+    let mean = sliding.iter().sum::<f64>() / sliding.len() as f64;
+    let mu_m_g = 0.4 * 4.0 * 9.81;
+    println!(
+        "chair push: mean force while sliding {mean:.2} N vs μmg {mu_m_g:.2} N; chair moved {:.3} m",
+        moved.x
+    );
+    assert!(
+        (mean - mu_m_g).abs() < 0.2 * mu_m_g,
+        "mean sliding force {mean} vs μmg {mu_m_g}"
+    );
+}
+
+#[test]
+fn fixed_table_stops_the_push_at_the_limit() {
+    // Pushing a bolted table ends at the 20 N limit with the hand < 5 mm past first contact (> 1 N),
+    // and the peak force stays below 110 % of the limit.
+    let s = robot_and(
+        "name = \"table\"\nkind = \"table\"\nposition = [2.0, 1.8]\nyaw = 90.0\nsize = [1.2, 0.8, 0.72]\nmass = 25.0\nfriction = 0.6\nfixed = true\ncolour = [140, 100, 60]",
+    );
+    let mut robot = SimRobot::new(&s, 4).expect("world");
+    let start = robot.world().object_pose(0).expect("table");
+    let motion = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.70),
+        to: Point3::new(0.8, 0.0, 0.70),
+        speed: 0.05,
+        force_limit: 20.0,
+    };
+    let (trace, outcome) = push(&mut robot, motion);
+    let HandOutcome::ForceLimit { wrench, at } = outcome else {
+        panic!("expected ForceLimit, got {outcome:?}")
+    };
+    assert!(wrench.value.force_norm() >= 20.0);
+    let first = trace.iter().find(|s| s.force > 1.0).expect("contact");
+    let overshoot = at.x - first.hand_x;
+    let peak = trace.iter().map(|s| s.force).fold(0.0, f64::max);
+    // Hold the hand there a while: the force must not keep climbing.
+    robot.advance(0.5).expect("hold");
+    let held_peak = robot
+        .drain_wrenches()
+        .expect("drain")
+        .iter()
+        .map(|w| w.value.force_norm())
+        .fold(peak, f64::max);
+    println!(
+        "table push: hand moved {:.2} mm past first contact; peak {peak:.2} N, peak while holding {held_peak:.2} N",
+        overshoot * 1e3
+    );
+    assert!(
+        overshoot < 0.005,
+        "hand moved {overshoot} m past first contact"
+    );
+    assert!(held_peak <= 22.0, "peak force {held_peak} N");
+    let end = robot.world().object_pose(0).expect("table");
+    assert_eq!(start, end, "a fixed table must not move");
+}
