@@ -28,13 +28,17 @@ use nudge_perception::{CloudFrame, ColourCloud};
 use rand::TryRng;
 use rand_distr::{Distribution, StandardNormal};
 use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
-use rapier3d::geometry::{BroadPhaseBvh, Collider, ColliderHandle, ColliderSet, Ray};
+use rapier3d::geometry::{
+    Aabb, BroadPhaseBvh, Collider, ColliderHandle, ColliderSet, Ray, RayIntersection,
+};
 use rapier3d::math::{Pose, Real, Rotation, Vector};
+use rapier3d::parry::bounding_volume::BoundingVolume;
 use rapier3d::parry::query::DefaultQueryDispatcher;
+use rapier3d::parry::shape::Shape;
 use rapier3d::pipeline::{QueryFilter, QueryFilterFlags, QueryPipeline};
 use rayon::prelude::*;
 
-use crate::surface::Surface;
+use crate::surface::{Owner, Surface};
 
 /// Parameters of the colour range sensor; [`Default`] is the paper's SR-4000 with colour cameras.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,6 +70,25 @@ pub struct ColourRangeConfig {
     pub colour_noise_sigma: f64,
     /// Colour of returns from colliders the surface lookup does not know.
     pub unknown_colour: [u8; 3],
+    /// Drop returns from the robot's own parts (surface owner [`Owner::Robot`]), like ROS's
+    /// robot_self_filter: the pixel is lost, not seen through. The body carrying the sensor is
+    /// excluded altogether through [`SensorScene::exclude`].
+    pub self_filter: bool,
+    /// How rays find their nearest surface.
+    pub caster: RayCaster,
+}
+
+/// How the sensor finds the nearest surface along each ray. Both give the same returns up to float
+/// rounding at silhouette edges.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RayCaster {
+    /// Per frame, gather the leaf shapes inside the view frustum (through the broad phase) and cull
+    /// them per image row: a row's rays lie in one plane, so each leaf covers a column span of it and
+    /// a ray tests only the leaves whose span holds it. Fast for room-sized scenes.
+    #[default]
+    RowCulled,
+    /// Cast every ray through rapier's query pipeline (the broad phase's BVH): the reference.
+    QueryPipeline,
 }
 
 impl Default for ColourRangeConfig {
@@ -84,6 +107,8 @@ impl Default for ColourRangeConfig {
             max_incidence_deg: 80.0,
             colour_noise_sigma: 3.0,
             unknown_colour: [128, 128, 128],
+            self_filter: true,
+            caster: RayCaster::RowCulled,
         }
     }
 }
@@ -323,17 +348,29 @@ impl ColourRangeSensor {
                 pose,
                 frame_seed,
             };
-            xs.par_chunks_mut(width)
+            let rows = xs
+                .par_chunks_mut(width)
                 .zip(ys.par_chunks_mut(width))
                 .zip(zs.par_chunks_mut(width))
                 .zip(rgb.par_chunks_mut(width))
-                .enumerate()
-                .for_each_init(
-                    || scene.query_pipeline(),
-                    |pipeline, (row, (((x, y), z), c))| {
-                        frame.trace_row(pipeline, row, RowOut { x, y, z, rgb: c });
+                .enumerate();
+            match self.config.caster {
+                RayCaster::RowCulled => {
+                    let leaves = Leaves::gather(&frame);
+                    rows.for_each_init(
+                        || CulledCaster::new(&leaves),
+                        |caster, (row, (((x, y), z), c))| {
+                            frame.trace_row(caster, row, RowOut { x, y, z, rgb: c });
+                        },
+                    );
+                }
+                RayCaster::QueryPipeline => rows.for_each_init(
+                    || PipelineCaster::new(scene),
+                    |caster, (row, (((x, y), z), c))| {
+                        frame.trace_row(caster, row, RowOut { x, y, z, rgb: c });
                     },
-                );
+                ),
+            }
         }
 
         match ColourCloud::organised(
@@ -398,59 +435,49 @@ struct Frame<'f> {
     frame_seed: u64,
 }
 
-/// The last collider a row hit, so neighbouring pixels on one surface skip the lookups.
-struct HitCache<'c> {
-    handle: ColliderHandle,
-    surface: Option<Surface>,
+/// The nearest surface a ray meets.
+struct Hit<'c> {
     collider: &'c Collider,
+    surface: Option<Surface>,
+    /// Distance along the ray and the world-frame normal there.
+    intersection: RayIntersection,
+}
+
+/// Finds the nearest surface along each ray of a row; one per rayon worker.
+trait RowCaster<'c> {
+    /// Prepares for the rays of `row`.
+    fn begin_row(&mut self, row: usize);
+    /// The nearest surface within `max_range` along `ray`, the ray of column `col`.
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>>;
 }
 
 impl Frame<'_> {
     /// Traces every pixel of `row` and writes its return (or NaN) into `out`.
-    fn trace_row(&self, pipeline: &QueryPipeline<'_>, row: usize, out: RowOut<'_>) {
+    fn trace_row<'c>(&self, caster: &mut impl RowCaster<'c>, row: usize, out: RowOut<'_>) {
         let config = &self.sensor.config;
         let width = config.width;
         let min_range = config.min_range as Real;
         let max_range = config.max_range as Real;
-        let mut cache: Option<HitCache> = None;
         let first = row * width;
         let dirs = &self.sensor.directions[first..first + width];
+        caster.begin_row(row);
 
         for (col, dir) in dirs.iter().enumerate() {
             let world_dir = self.pose.rotation * *dir;
             let ray = Ray::new(self.pose.translation, world_dir);
-            // The BVH's ray cast without normals takes parry's SIMD path; the normal then comes from
-            // the one collider hit.
-            let Some((handle, toi)) = pipeline.cast_ray(&ray, max_range, true) else {
+            let Some(hit) = caster.first_hit(col, &ray, max_range) else {
                 continue;
             };
-            if toi < min_range {
-                continue;
-            }
-            let cached = match cache.take() {
-                Some(c) if c.handle == handle => Some(c),
-                _ => self.scene.colliders.get(handle).map(|co| HitCache {
-                    handle,
-                    surface: (self.scene.surface)(handle),
-                    collider: co,
-                }),
-            };
-            let Some(cached) = cached else { continue };
-            let Some(hit) = cached.collider.shape().cast_ray_and_get_normal(
-                cached.collider.position(),
-                &ray,
-                max_range,
-                true,
-            ) else {
-                continue;
-            };
-            let cos_incidence = hit.normal.dot(world_dir).abs();
-            if hit.time_of_impact < min_range || cos_incidence < self.sensor.min_cos_incidence {
+            let toi = hit.intersection.time_of_impact;
+            let cos_incidence = hit.intersection.normal.dot(world_dir).abs();
+            let own_part =
+                config.self_filter && hit.surface.is_some_and(|s| matches!(s.owner, Owner::Robot));
+            if toi < min_range || cos_incidence < self.sensor.min_cos_incidence || own_part {
                 continue;
             }
 
             let mut noise = RayRng::new(self.frame_seed, first + col);
-            let true_range = f64::from(hit.time_of_impact);
+            let true_range = f64::from(toi);
             let sigma = config.range_sigma(true_range, f64::from(cos_incidence));
             let range = true_range + sigma * gaussian(&mut noise);
             let p = *dir * range as Real;
@@ -458,13 +485,10 @@ impl Frame<'_> {
             out.y[col] = p.y;
             out.z[col] = p.z;
 
-            let base = match &cached.surface {
+            let base = match &hit.surface {
                 Some(surface) => {
-                    let world_hit = ray.origin + world_dir * hit.time_of_impact;
-                    let local = cached
-                        .collider
-                        .position()
-                        .inverse_transform_point(world_hit);
+                    let world_hit = ray.origin + world_dir * toi;
+                    let local = hit.collider.position().inverse_transform_point(world_hit);
                     let local =
                         Point3::new(f64::from(local.x), f64::from(local.y), f64::from(local.z));
                     surface.colour_at(local, self.scene.texture_seed)
@@ -475,8 +499,248 @@ impl Frame<'_> {
                 let v = f64::from(c) + config.colour_noise_sigma * gaussian(&mut noise);
                 v.round().clamp(0.0, 255.0) as u8
             });
-            cache = Some(cached);
         }
+    }
+}
+
+/// Rays through rapier's query pipeline (the broad phase's BVH), the reference caster.
+struct PipelineCaster<'c> {
+    scene: &'c SensorScene<'c>,
+    pipeline: QueryPipeline<'c>,
+    /// The last collider hit and its surface: neighbouring pixels mostly share a collider.
+    last: Option<(ColliderHandle, &'c Collider, Option<Surface>)>,
+}
+
+impl<'c> PipelineCaster<'c> {
+    fn new(scene: &'c SensorScene<'c>) -> Self {
+        Self {
+            scene,
+            pipeline: scene.query_pipeline(),
+            last: None,
+        }
+    }
+}
+
+impl<'c> RowCaster<'c> for PipelineCaster<'c> {
+    fn begin_row(&mut self, _row: usize) {}
+
+    fn first_hit(&mut self, _col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>> {
+        // The BVH's ray cast without normals takes parry's SIMD path; the normal then comes from
+        // the one collider hit.
+        let (handle, _) = self.pipeline.cast_ray(ray, max_range, true)?;
+        let (collider, surface) = match self.last {
+            Some((h, co, surface)) if h == handle => (co, surface),
+            _ => {
+                let co = self.scene.colliders.get(handle)?;
+                let surface = (self.scene.surface)(handle);
+                self.last = Some((handle, co, surface));
+                (co, surface)
+            }
+        };
+        let intersection =
+            collider
+                .shape()
+                .cast_ray_and_get_normal(collider.position(), ray, max_range, true)?;
+        Some(Hit {
+            collider,
+            surface,
+            intersection,
+        })
+    }
+}
+
+/// One convex-or-not piece of a visible collider (a compound's part, or the whole shape), in world
+/// coordinates, with its bounding box corners in the sensor frame for culling.
+struct Leaf<'c> {
+    collider: &'c Collider,
+    surface: Option<Surface>,
+    shape: &'c dyn Shape,
+    pose: Pose,
+    /// World AABB corners, in the sensor frame.
+    corners: [Vector; 8],
+}
+
+/// Every leaf a frame's rays can reach.
+struct Leaves<'c> {
+    leaves: Vec<Leaf<'c>>,
+    /// Tangent of half the horizontal field of view.
+    half_w: Real,
+    /// Tangent of half the vertical field of view.
+    half_h: Real,
+    width: usize,
+    height: usize,
+}
+
+impl<'c> Leaves<'c> {
+    /// The leaves of the colliders the broad phase finds inside the view frustum's bounding box, with
+    /// the scene's filter (robot body excluded, trigger volumes skipped).
+    fn gather(frame: &Frame<'c>) -> Self {
+        let config = &frame.sensor.config;
+        let half_w = (config.h_fov_deg.to_radians() / 2.0).tan() as Real;
+        let half_h = (config.v_fov_deg.to_radians() / 2.0).tan() as Real;
+        let max_range = config.max_range as Real;
+        // Every point within max_range along a ray of the frustum lies in the pyramid from the
+        // sensor to the far rectangle at x = max_range.
+        let mut frustum_points = vec![frame.pose.translation];
+        for (sy, sz) in [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)] {
+            let far = Vector::new(max_range, sy * half_w * max_range, sz * half_h * max_range);
+            frustum_points.push(frame.pose.transform_point(far));
+        }
+        let frustum = Aabb::from_points(frustum_points);
+
+        let scene = frame.scene;
+        let pipeline = scene.query_pipeline();
+        let mut leaves = Vec::new();
+        let handles: Vec<ColliderHandle> = pipeline
+            .intersect_aabb_conservative(frustum)
+            .map(|(handle, _)| handle)
+            .collect();
+        for handle in handles {
+            let Some(collider) = scene.colliders.get(handle) else {
+                continue;
+            };
+            let surface = (scene.surface)(handle);
+            let mut push = |shape: &'c dyn Shape, pose: Pose| {
+                let aabb = shape.compute_aabb(&pose);
+                if !aabb.intersects(&frustum) {
+                    return;
+                }
+                // Corner i takes maxs on the axes whose bit is set in i (x = 1, y = 2, z = 4), so
+                // box edges join corners whose indices differ in one bit.
+                let corners: [Vector; 8] = std::array::from_fn(|i| {
+                    let pick = |bit: usize, lo: Real, hi: Real| if i & bit == 0 { lo } else { hi };
+                    let v = Vector::new(
+                        pick(1, aabb.mins.x, aabb.maxs.x),
+                        pick(2, aabb.mins.y, aabb.maxs.y),
+                        pick(4, aabb.mins.z, aabb.maxs.z),
+                    );
+                    frame.pose.inverse_transform_point(v)
+                });
+                leaves.push(Leaf {
+                    collider,
+                    surface,
+                    shape,
+                    pose,
+                    corners,
+                });
+            };
+            match collider.shape().as_compound() {
+                Some(compound) => {
+                    for (part_pose, part) in compound.shapes() {
+                        push(part.as_ref(), *collider.position() * *part_pose);
+                    }
+                }
+                None => push(collider.shape(), *collider.position()),
+            }
+        }
+        Self {
+            leaves,
+            half_w,
+            half_h,
+            width: config.width,
+            height: config.height,
+        }
+    }
+
+    /// The columns `[lo, hi]` of `row` whose rays may meet `leaf`, or `None` if none may.
+    ///
+    /// A row's rays all lie in one plane through the sensor; the leaf's box meets that plane in a
+    /// convex polygon, and the rays that can hit it are those within the polygon's angular span.
+    fn columns(&self, leaf: &Leaf<'_>, row: usize) -> Option<(usize, usize)> {
+        let up = self.half_h * (1.0 - (2.0 * row as Real + 1.0) / self.height as Real);
+        // Rays (1, y, up) satisfy z - up·x = 0.
+        let side = leaf.corners.map(|c| c.z - up * c.x);
+        let (mut y_min, mut y_max) = (Real::INFINITY, Real::NEG_INFINITY);
+        let mut behind = false;
+        let mut any = false;
+        let mut visit = |p: Vector| {
+            any = true;
+            if p.x <= 1e-6 {
+                behind = true;
+            } else {
+                let y = p.y / p.x;
+                y_min = y_min.min(y);
+                y_max = y_max.max(y);
+            }
+        };
+        for (i, &si) in side.iter().enumerate() {
+            if si == 0.0 {
+                visit(leaf.corners[i]);
+            }
+            // Box edges join corners whose indices differ in one bit.
+            for bit in [1, 2, 4] {
+                let j = i ^ bit;
+                if j > i && si * side[j] < 0.0 {
+                    let t = si / (si - side[j]);
+                    visit(leaf.corners[i] + (leaf.corners[j] - leaf.corners[i]) * t);
+                }
+            }
+        }
+        if !any {
+            return None;
+        }
+        if behind {
+            // The section reaches beside or behind the sensor: do not cull within the row.
+            return Some((0, self.width - 1));
+        }
+        // Column c looks along y = half_w · (1 − (2c + 1) / width); y falls as c grows.
+        let col_of = |y: Real| ((1.0 - y / self.half_w) * self.width as Real - 1.0) / 2.0;
+        let lo = (col_of(y_max).floor() - 1.0).max(0.0);
+        let hi = (col_of(y_min).ceil() + 1.0).min(self.width as Real - 1.0);
+        (lo <= hi).then_some((lo as usize, hi as usize))
+    }
+}
+
+/// Rays against a frame's leaves, culled per row: each ray only tests the few leaves whose column
+/// span in its row contains it.
+struct CulledCaster<'l, 'c> {
+    leaves: &'l Leaves<'c>,
+    /// (first column, last column, leaf index) of the leaves the current row may see.
+    candidates: Vec<(usize, usize, usize)>,
+}
+
+impl<'l, 'c> CulledCaster<'l, 'c> {
+    fn new(leaves: &'l Leaves<'c>) -> Self {
+        Self {
+            leaves,
+            candidates: Vec::with_capacity(leaves.leaves.len()),
+        }
+    }
+}
+
+impl<'c> RowCaster<'c> for CulledCaster<'_, 'c> {
+    fn begin_row(&mut self, row: usize) {
+        self.candidates.clear();
+        for (i, leaf) in self.leaves.leaves.iter().enumerate() {
+            if let Some((lo, hi)) = self.leaves.columns(leaf, row) {
+                self.candidates.push((lo, hi, i));
+            }
+        }
+    }
+
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>> {
+        let mut best: Option<(usize, Real)> = None;
+        for &(lo, hi, i) in &self.candidates {
+            if col < lo || col > hi {
+                continue;
+            }
+            let leaf = &self.leaves.leaves[i];
+            let limit = best.map_or(max_range, |(_, t)| t);
+            if let Some(t) = leaf.shape.cast_ray(&leaf.pose, ray, limit, true)
+                && best.is_none_or(|(_, b)| t < b)
+            {
+                best = Some((i, t));
+            }
+        }
+        let leaf = &self.leaves.leaves[best?.0];
+        let intersection = leaf
+            .shape
+            .cast_ray_and_get_normal(&leaf.pose, ray, max_range, true)?;
+        Some(Hit {
+            collider: leaf.collider,
+            surface: leaf.surface,
+            intersection,
+        })
     }
 }
 
