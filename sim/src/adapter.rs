@@ -10,11 +10,13 @@ use nudge_perception::ColourCloud;
 
 use crate::humanoid::walk::Walk;
 use crate::scenario::Scenario;
+use crate::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, SensorScene};
 use crate::world::{World, WorldError};
 
 /// The simulated robot: owns the world it lives in.
 pub struct SimRobot {
     world: World,
+    range: ColourRangeSensor,
     frames: u64,
 }
 
@@ -24,9 +26,18 @@ impl SimRobot {
         Ok(Self::from_world(World::new(scenario, seed)?))
     }
 
-    /// A robot in an existing world.
+    /// A robot in an existing world, with the paper's range sensor.
     pub fn from_world(world: World) -> Self {
-        Self { world, frames: 0 }
+        Self::with_range_sensor(world, ColourRangeSensor::new(ColourRangeConfig::default()))
+    }
+
+    /// A robot in an existing world with a chosen range sensor.
+    pub fn with_range_sensor(world: World, range: ColourRangeSensor) -> Self {
+        Self {
+            world,
+            range,
+            frames: 0,
+        }
     }
 
     /// The world, for ground truth and recording.
@@ -193,10 +204,37 @@ impl Arm for SimRobot {
 }
 
 impl RangeCamera for SimRobot {
+    /// One frame from the head's current pose. The robot's bounding body is invisible to it; the
+    /// hand is not (a real camera sees the hand too). Noise is fixed by the world's seed and the
+    /// frame number, so a run is the same every time.
     fn capture(&mut self) -> Result<ColourCloud, RobotError> {
-        Err(RobotError::Unavailable {
-            capability: "range camera",
-            reason: "the colour range sensor model is not wired into the simulation yet".into(),
-        })
+        let world = &self.world;
+        let surfaces = world.surfaces();
+        let lookup = move |h| surfaces.get(&h).copied();
+        let scene = SensorScene {
+            bodies: world.bodies(),
+            colliders: world.colliders(),
+            broad_phase: &world.physics().broad_phase,
+            surface: &lookup,
+            texture_seed: world.seed(),
+            exclude: Some(world.humanoid().parts().body),
+        };
+        let pose = world.humanoid().sensor_pose();
+        let cloud = self.range.capture(
+            &scene,
+            &pose,
+            world.time(),
+            frame_seed(world.seed(), self.frames),
+        );
+        self.frames += 1;
+        Ok(cloud)
     }
+}
+
+/// The noise seed of frame `frame` of a run with `seed` (SplitMix64 of the pair).
+fn frame_seed(seed: u64, frame: u64) -> u64 {
+    let mut z = seed ^ frame.wrapping_add(1).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }

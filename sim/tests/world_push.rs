@@ -136,3 +136,54 @@ fn fixed_table_stops_the_push_at_the_limit() {
     let end = robot.world().object_pose(0).expect("table");
     assert_eq!(start, end, "a fixed table must not move");
 }
+
+#[test]
+fn walking_with_the_hand_out_pushes_the_chair_along() {
+    // ClearPath: with the hand on the chair's back at seat height (a guarded move to a light 3 N
+    // contact), walking 0.8 m forward moves the chair about as far (within 5 cm), the walk arrives,
+    // and the force stays near μmg (below 25 N: friction plus accelerating the chair).
+    use nalgebra::Point2;
+    use nudge_executive::robot::{Base, WalkOutcome};
+    let s = robot_and(
+        "name = \"chair\"\nkind = \"chair\"\nposition = [1.8, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 4.0\nfriction = 0.4\ncolour = [40, 120, 200]",
+    );
+    let mut robot = SimRobot::new(&s, 3).expect("world");
+    let start = robot.world().object_pose(0).expect("chair");
+    let reach = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.43),
+        to: Point3::new(0.7, 0.0, 0.43),
+        speed: 0.05,
+        force_limit: 3.0,
+    };
+    let (_, outcome) = push(&mut robot, reach);
+    assert!(
+        matches!(outcome, HandOutcome::ForceLimit { .. }),
+        "the hand stops on the chair back: {outcome:?}"
+    );
+    robot.start_walk(&[Point2::new(1.8, 1.8)]).expect("walk");
+    let mut peak: f64 = 0.0;
+    while robot.now() < 40.0 {
+        robot.advance(0.01).expect("advance");
+        peak = robot
+            .drain_wrenches()
+            .expect("drain")
+            .iter()
+            .map(|w| w.value.force_norm())
+            .fold(peak, f64::max);
+        if let ActionStatus::Done(o) =
+            nudge_executive::robot::Base::walk_status(&mut robot).expect("status")
+        {
+            assert_eq!(o, WalkOutcome::Arrived);
+            break;
+        }
+    }
+    let end = robot.world().object_pose(0).expect("chair");
+    let moved = end.translation.x - start.translation.x;
+    println!("clear path: chair moved {moved:.3} m for a 0.8 m walk; peak force {peak:.1} N");
+    assert!((moved - 0.8).abs() < 0.05, "chair moved {moved} m");
+    assert!(peak < 25.0, "peak force {peak} N");
+    assert!(
+        (end.rotation * nalgebra::Vector3::z()).z > 0.99,
+        "chair tipped"
+    );
+}

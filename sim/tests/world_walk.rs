@@ -89,3 +89,45 @@ fn free_walk_arrives_facing_its_direction() {
     // 1.8 m of walking at 0.15 m/s plus a quarter turn at 0.5 rad/s: at least 15 s.
     assert!(robot.now() >= 15.0);
 }
+
+#[test]
+fn walking_with_the_hand_out_into_a_wall_stops_on_overload() {
+    // Walking with the hand held out at a wall ends Blocked once the hand presses on it, before the
+    // body reaches it, with the wrist force capped near the 60 N overload (below 70 N).
+    use nalgebra::Point3;
+    use nudge_executive::robot::{Arm, GuardedMove, HandOutcome, WristSensor};
+    let s = robot_and(
+        "name = \"far\"\nkind = \"box\"\nposition = [5.0, 3.0]\nsize = [0.2, 0.2, 0.2]\nmass = 1.0\ncolour = [1, 2, 3]",
+    );
+    let mut robot = SimRobot::new(&s, 1).expect("world");
+    robot.start_turn(std::f64::consts::PI).expect("turn");
+    robot.advance(10.0).expect("turn");
+    robot.tare().expect("tare");
+    let hold = GuardedMove {
+        from: Point3::new(0.5, 0.0, 1.0),
+        to: Point3::new(0.6, 0.0, 1.0),
+        speed: 0.05,
+        force_limit: 20.0,
+    };
+    robot.start_guarded_move(hold).expect("hand out");
+    robot.advance(10.0).expect("hand out");
+    assert_eq!(
+        nudge_executive::robot::Arm::hand_status(&mut robot).expect("status"),
+        ActionStatus::Done(HandOutcome::Reached)
+    );
+    robot.drain_wrenches().expect("drain");
+    let (outcome, min_x) = walk_to(&mut robot, Point2::new(-1.0, 1.8), 60.0);
+    let peak = robot
+        .drain_wrenches()
+        .expect("drain")
+        .iter()
+        .map(|w| w.value.force_norm())
+        .fold(0.0, f64::max);
+    assert!(
+        matches!(outcome, WalkOutcome::Blocked { .. }),
+        "{outcome:?}"
+    );
+    // The hand's front face is 0.62 m ahead of the body axis.
+    assert!(min_x > 0.6, "the body walked on to x = {min_x}");
+    assert!(peak < 70.0, "peak force {peak} N");
+}

@@ -6,16 +6,20 @@ use world_common::*;
 
 #[test]
 fn hanging_hand_reads_its_weight() {
-    // The joint impulse → force convention (impulse × substeps / dt) gives the hanging hand's weight,
-    // pointing down, on the wrist: the true reading at rest is (0, 0, −m g) within 1 %.
+    // The joint impulse → force convention (impulse × substeps / dt) gives the hanging hand's weight
+    // on the wrist, (0, 0, −m g) within 1 %, for a fine (1 ms) and a coarse (10 ms) physics step alike.
     let s = robot_and(
         "name = \"far\"\nkind = \"box\"\nposition = [5.0, 3.0]\nsize = [0.2, 0.2, 0.2]\nmass = 1.0\ncolour = [1, 2, 3]",
     );
     let mut w = world(&s);
-    for dt in [0.001, 0.01] {
-        w.advance(1.0).expect("advance");
-        // Hold the step length fixed at `dt` by advancing exactly one step.
+    w.advance(1.0).expect("settle");
+    let hand = w.humanoid().parts().hand;
+    for dt in [0.001, 0.01, 0.001] {
+        // Exactly one physics step of length dt (the world is on a 10 ms boundary), with the hand awake.
+        w.physics_mut().wake_up(hand, true);
+        let steps = w.steps();
         w.advance(dt).expect("advance");
+        assert_eq!(w.steps(), steps + 1, "one physics step of {dt} s");
         let f = w.wrist_truth().force;
         let weight = HAND_MASS * 9.81;
         assert!(
@@ -26,5 +30,6 @@ fn hanging_hand_reads_its_weight() {
             f.x.abs() < 0.01 * weight && f.y.abs() < 0.01 * weight,
             "dt {dt}: force {f:?}"
         );
+        w.advance(0.01 - dt).expect("back onto the 10 ms grid");
     }
 }

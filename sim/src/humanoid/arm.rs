@@ -97,10 +97,12 @@ impl Arm {
         self.motion != Motion::Hold
     }
 
-    /// The force limit of the guarded line under way, if the hand is on one.
+    /// The force limit of the guarded move under way. The unguarded move to the line's start is
+    /// checked against the same limit too: stopping early is never unsafe, and a kinematic wrist
+    /// driven into something would otherwise press without bound.
     pub fn guard(&self) -> Option<f64> {
         match &self.motion {
-            Motion::Guarded(m) => Some(m.force_limit),
+            Motion::Approach(m) | Motion::Guarded(m) => Some(m.force_limit),
             _ => None,
         }
     }

@@ -246,6 +246,17 @@ impl Humanoid {
         }
     }
 
+    /// Ends a walk or turn at once because the hand is overloaded: the outcome is `Blocked` where
+    /// the base stands (something the hand touched is in the way).
+    pub fn protective_stop(&mut self) {
+        if !matches!(self.walk, Walk::Idle(_)) {
+            self.rates = Rates::default();
+            self.walk = Walk::Idle(Some(nudge_executive::robot::WalkOutcome::Blocked {
+                at: self.base,
+            }));
+        }
+    }
+
     /// Starts moving the head, or refuses angles outside its limits.
     pub fn point_head(&mut self, pan: f64, tilt: f64) -> Result<(), Refused> {
         if !Head::within_limits(pan, tilt) {

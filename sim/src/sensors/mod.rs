@@ -1,4 +1,5 @@
-//! Sensor models: the colour range sensor and the wrist force/torque sensor.
+//! Sensor models: what the simulated robot perceives (the colour range sensor on the head, the
+//! force/torque sensor at the wrist).
 
 pub mod colour_range;
 pub mod wrist_ft;

@@ -25,6 +25,9 @@ use convert::iso_from_pose;
 pub const FINE_STEP_US: u64 = 1_000;
 /// Physics step otherwise (µs).
 pub const COARSE_STEP_US: u64 = 10_000;
+/// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
+/// presses on something that does not give (three times the paper's 20 N push limit).
+pub const HAND_OVERLOAD: f64 = 60.0;
 
 /// Why a world could not be built or advanced.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
@@ -190,6 +193,11 @@ impl World {
         &mut self.physics
     }
 
+    /// Appearance and owner of every collider.
+    pub fn surfaces(&self) -> &HashMap<ColliderHandle, Surface> {
+        &self.surfaces
+    }
+
     /// Appearance and owner of a collider.
     pub fn surface(&self, handle: ColliderHandle) -> Option<Surface> {
         self.surfaces.get(&handle).copied()
@@ -305,8 +313,12 @@ impl World {
         self.check_guard(reading);
     }
 
-    /// Stops a guarded move the moment the tared force reaches its limit.
+    /// Stops a guarded move the moment the tared force reaches its limit, and a walk when the hand
+    /// is overloaded.
     fn check_guard(&mut self, reading: Stamped<Wrench>) {
+        if reading.value.force_norm() >= HAND_OVERLOAD {
+            self.humanoid.protective_stop();
+        }
         let Some(limit) = self.humanoid.arm().guard() else {
             return;
         };
