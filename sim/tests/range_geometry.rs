@@ -337,3 +337,52 @@ fn map_frame_points_land_on_the_surface_for_a_turned_and_tilted_sensor() {
         "{on_face} face, {on_floor} floor"
     );
 }
+
+#[test]
+fn grazing_returns_are_lost() {
+    // Looking level from 0.3 m, floor pixels seen at more than the maximum incidence (80°, i.e. rays
+    // less than 10° below the horizon) are lost even within range; steeper ones return.
+    let scene = {
+        let mut s = TestScene::with_floor();
+        s.refresh();
+        s
+    };
+    let sensor = ColourRangeSensor::new(noise_free());
+    let c = sensor.config().clone();
+    let cloud = scene.capture(&sensor, &pose([0.0, 0.0, 0.3], 0.0, 0.0), 2, None);
+    let col = c.width / 2;
+    let (mut lost, mut kept) = (0, 0);
+    for row in c.height / 2..c.height {
+        let d = sensor.ray_direction(row, col).expect("inside the image");
+        let depression = (-d.z).asin().to_degrees();
+        let range = 0.3 / -d.z;
+        let i = row * c.width + col;
+        if depression < 90.0 - c.max_incidence_deg - 0.2 && range < c.max_range {
+            assert!(cloud.point(i).is_none(), "row {row} at {depression}° kept");
+            lost += 1;
+        } else if depression > 90.0 - c.max_incidence_deg + 0.2 {
+            assert!(cloud.point(i).is_some(), "row {row} at {depression}° lost");
+            kept += 1;
+        }
+    }
+    assert!(lost > 10 && kept > 10, "{lost} lost, {kept} kept");
+}
+
+#[test]
+fn colliders_without_a_surface_get_the_unknown_colour() {
+    // A collider the surface lookup does not know still returns, in the configured unknown colour.
+    let mut scene = TestScene::empty();
+    scene.world.insert(
+        rapier3d::prelude::RigidBodyBuilder::fixed()
+            .translation(rapier3d::prelude::Vector::new(2.0, 0.0, 0.0))
+            .build(),
+        rapier3d::prelude::ColliderBuilder::cuboid(0.1, 1.0, 1.0),
+    );
+    scene.refresh();
+    let sensor = ColourRangeSensor::new(noise_free());
+    let cloud = scene.capture(&sensor, &pose([0.0, 0.0, 0.0], 0.0, 0.0), 2, None);
+    assert!(cloud.valid_count() > 1000);
+    for (_, _, colour) in cloud.iter_valid() {
+        assert_eq!(colour, sensor.config().unknown_colour);
+    }
+}
