@@ -386,3 +386,29 @@ fn colliders_without_a_surface_get_the_unknown_colour() {
         assert_eq!(colour, sensor.config().unknown_colour);
     }
 }
+
+#[test]
+fn an_invalid_config_or_pose_captures_nothing_without_panicking() {
+    // A sensor built from a bad configuration returns an empty cloud; a NaN pose returns no points.
+    let scene = box_ahead_scene();
+    for bad in [
+        ColourRangeConfig {
+            h_fov_deg: -3.0,
+            ..ColourRangeConfig::default()
+        },
+        ColourRangeConfig {
+            width: usize::MAX,
+            height: 3,
+            ..ColourRangeConfig::default()
+        },
+    ] {
+        let bad = ColourRangeSensor::new(bad);
+        let cloud = scene.capture(&bad, &pose([0.0, 0.0, 1.0], 0.0, 0.0), 1, None);
+        assert!(cloud.is_empty());
+    }
+
+    let good = ColourRangeSensor::new(ColourRangeConfig::default());
+    let cloud = scene.capture(&good, &pose([f64::NAN, 0.0, 1.0], 0.0, 0.0), 1, None);
+    assert_eq!(cloud.len(), 176 * 144);
+    assert_eq!(cloud.valid_count(), 0);
+}

@@ -5,7 +5,10 @@
 //!
 //! - **Geometry.** One ray per pixel through a pinhole (tangent-plane) grid, like a real camera: pixel
 //!   centres are equally spaced on the image plane, not in angle. Rays are cast into the rapier scene
-//!   in parallel (rayon, one query pipeline per worker); the robot's own body is never seen.
+//!   in parallel, one image row per rayon task. The default caster gathers the shapes in the view
+//!   frustum through the broad phase once per frame and culls them per row (a row's rays share a
+//!   plane); rapier's query pipeline (one per worker) is the reference it is tested against. The body
+//!   carrying the sensor is never seen; the robot's other parts are self-filtered (their pixels lost).
 //! - **Range.** The sensor measures the distance along the ray. Noise is Gaussian along the ray with
 //!   `σ = σ_ref · (r / r_ref)^a / cos(θ)^b` (θ the angle of incidence): a ToF camera's noise falls with
 //!   the returned amplitude, which drops with distance and with obliquity. Defaults: σ = 4 mm at 1.3 m,
@@ -111,12 +114,15 @@ impl Default for ColourRangeConfig {
     }
 }
 
+/// The most pixels a sensor may have (a 4096 × 4096 image): beyond this a typo, not a camera.
+pub const MAX_PIXELS: usize = 1 << 24;
+
 /// Why a [`ColourRangeConfig`] cannot describe a sensor.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 pub enum ColourRangeConfigError {
-    /// The image has no pixels.
-    #[error("image size {width} × {height} has no pixels")]
-    EmptyImage {
+    /// The image has no pixels, or more than [`MAX_PIXELS`].
+    #[error("image size {width} × {height} must have between 1 and {MAX_PIXELS} pixels")]
+    ImageSize {
         /// Columns asked for.
         width: usize,
         /// Rows asked for.
@@ -154,8 +160,14 @@ pub enum ColourRangeConfigError {
 impl ColourRangeConfig {
     /// Checks that the configuration describes a sensor that can see something.
     pub fn validate(&self) -> Result<(), ColourRangeConfigError> {
-        if self.width == 0 || self.height == 0 {
-            return Err(ColourRangeConfigError::EmptyImage {
+        if self.width == 0
+            || self.height == 0
+            || self
+                .width
+                .checked_mul(self.height)
+                .is_none_or(|n| n > MAX_PIXELS)
+        {
+            return Err(ColourRangeConfigError::ImageSize {
                 width: self.width,
                 height: self.height,
             });
@@ -283,12 +295,12 @@ pub struct ColourRangeSensor {
 
 impl ColourRangeSensor {
     /// A sensor with `config`. An invalid configuration (see [`ColourRangeConfig::validate`]) gives a
-    /// sensor whose captures hold no valid returns; use [`Self::try_new`] to be told instead.
+    /// sensor whose captures are empty clouds; use [`Self::try_new`] to be told instead.
     pub fn new(config: ColourRangeConfig) -> Self {
         let directions = if config.validate().is_ok() {
             pixel_directions(&config)
         } else {
-            vec![Vector::splat(Real::NAN); config.width.saturating_mul(config.height)]
+            Vec::new()
         };
         let min_cos_incidence = config.max_incidence_deg.to_radians().cos().max(0.0) as Real;
         Self {
@@ -323,7 +335,7 @@ impl ColourRangeSensor {
     /// fixed by `frame_seed`.
     ///
     /// Returns an organised `width × height` cloud in the sensor frame. A non-finite pose gives a
-    /// cloud without valid returns.
+    /// cloud without valid returns; a sensor with an invalid configuration gives an empty cloud.
     pub fn capture(
         &self,
         scene: &SensorScene<'_>,
@@ -333,13 +345,17 @@ impl ColourRangeSensor {
     ) -> ColourCloud {
         let (width, height) = (self.config.width, self.config.height);
         let n = self.directions.len();
+        if n == 0 {
+            // Only an invalid configuration leaves the sensor without rays.
+            return ColourCloud::empty(CloudFrame::Sensor, *sensor_pose, stamp);
+        }
         let mut xs = vec![f32::NAN; n];
         let mut ys = vec![f32::NAN; n];
         let mut zs = vec![f32::NAN; n];
         let mut rgb = vec![[0u8; 3]; n];
 
         let pose = to_pose(sensor_pose);
-        if width > 0 && pose.is_finite() {
+        if pose.is_finite() {
             let frame = Frame {
                 sensor: self,
                 scene,
@@ -896,6 +912,11 @@ mod tests {
                 ..Default::default()
             },
             ColourRangeConfig {
+                width: usize::MAX,
+                height: 2,
+                ..Default::default()
+            },
+            ColourRangeConfig {
                 h_fov_deg: 180.0,
                 ..Default::default()
             },
@@ -913,11 +934,7 @@ mod tests {
             },
         ] {
             assert!(ColourRangeSensor::try_new(bad.clone()).is_err(), "{bad:?}");
-            let sensor = ColourRangeSensor::new(bad);
-            assert_eq!(
-                sensor.directions.len(),
-                sensor.config.width * sensor.config.height
-            );
+            assert!(ColourRangeSensor::new(bad).directions.is_empty());
         }
     }
 
