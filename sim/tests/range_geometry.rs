@@ -195,7 +195,8 @@ fn the_robots_own_body_is_seen_through_and_its_parts_are_filtered() {
 #[test]
 fn row_culled_and_query_pipeline_casters_agree() {
     // Both ray casters return the same pixels with the same ranges and colours (up to float rounding
-    // at silhouettes), on a scene with a compound, a rotated box and objects beside and behind.
+    // at silhouettes), on a scene with a compound, a rotated box and objects beside and behind, seen
+    // from level, tilted, steep and rolled poses.
     let mut scene = TestScene::with_floor();
     scene.add_box(
         RigidBodyType::Fixed,
@@ -234,6 +235,11 @@ fn row_culled_and_query_pipeline_casters_agree() {
         pose([0.0, 0.0, 1.4], 0.6, 0.2),
         pose([0.5, 0.2, 1.2], 2.0, 0.5),
         pose([1.0, -0.5, 0.6], -0.4, -0.1),
+        pose([0.5, 0.0, 1.5], 0.2, 1.4),
+        nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::new(0.2, 0.1, 1.3),
+            nalgebra::UnitQuaternion::from_euler_angles(0.4, 0.3, -0.2),
+        ),
     ] {
         let a = scene.capture(&culled, &at, 21, None);
         let b = scene.capture(&reference, &at, 21, None);
