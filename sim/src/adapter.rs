@@ -146,24 +146,7 @@ impl WristSensor for SimRobot {
     }
 
     fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
-        match self.world.wrist_sensor().latest() {
-            Some(w) => Ok(w),
-            None => {
-                // No sample yet (no time has passed): let one sensor period pass.
-                let period = 1.0 / self.world.wrist_sensor().config().rate_hz;
-                self.world.advance(period).map_err(|e| RobotError::Fault {
-                    capability: "wrist sensor",
-                    reason: e.to_string(),
-                })?;
-                self.world
-                    .wrist_sensor()
-                    .latest()
-                    .ok_or_else(|| RobotError::Fault {
-                        capability: "wrist sensor",
-                        reason: "no reading after one sensor period".into(),
-                    })
-            }
-        }
+        Ok(self.world.wrist_reading())
     }
 
     fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {

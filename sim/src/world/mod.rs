@@ -245,6 +245,17 @@ impl World {
         self.wrist_truth
     }
 
+    /// The wrist sensor's latest tared reading; before its first sample, one fresh reading now.
+    pub fn wrist_reading(&mut self) -> Stamped<Wrench> {
+        match self.wrist_ft.latest() {
+            Some(w) => w,
+            None => {
+                let truth = self.wrist_truth;
+                self.wrist_ft.record(&truth, self.time_us, self.time_us)
+            }
+        }
+    }
+
     /// Zeroes the wrist sensor on its recent readings.
     pub fn tare_wrist(&mut self) {
         let truth = self.wrist_truth;
