@@ -50,6 +50,11 @@ impl SimRobot {
         &mut self.world
     }
 
+    /// The range sensor model.
+    pub fn range_sensor(&self) -> &ColourRangeSensor {
+        &self.range
+    }
+
     /// How many range frames were captured.
     pub fn frames(&self) -> u64 {
         self.frames
@@ -188,8 +193,8 @@ impl Arm for SimRobot {
 
 impl RangeCamera for SimRobot {
     /// One frame from the head's current pose. The robot's bounding body is invisible to it; the
-    /// hand is not (a real camera sees the hand too). Noise is fixed by the world's seed and the
-    /// frame number, so a run is the same every time.
+    /// hand occludes but its own returns are self-filtered (lost pixels). Noise is fixed by the
+    /// world's seed and the frame number, so a run is the same every time.
     fn capture(&mut self) -> Result<ColourCloud, RobotError> {
         let world = &self.world;
         let surfaces = world.surfaces();
