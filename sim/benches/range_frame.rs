@@ -8,9 +8,10 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
-use nudge_sim::scenario::Texture;
+use nudge_sim::scenario::{Scenario, Texture};
 use nudge_sim::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, SensorScene};
 use nudge_sim::surface::{Owner, Surface};
+use nudge_sim::world::World;
 use rapier3d::prelude::*;
 
 struct Room {
@@ -143,6 +144,10 @@ fn bench_frame(c: &mut Criterion) {
         rayon::current_num_threads()
     );
 
+    report_cpu("range_frame", |seed| {
+        black_box(sensor.capture(&scene, &pose, 0.0, seed));
+    });
+
     let mut seed = 0u64;
     c.bench_function("range_frame_176x144", |b| {
         b.iter(|| {
@@ -163,5 +168,73 @@ fn bench_frame(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench_frame);
+/// The same frame in the simulation's own world (`nudge_sim::world::World`) built from the paper's
+/// room scenario, seen from the humanoid's head tilted 20° down, its body excluded.
+fn bench_world_frame(c: &mut Criterion) {
+    let scenario: Scenario =
+        toml::from_str(include_str!("../tests/world_common/kakiuchi_room.toml"))
+            .expect("bench scenario parses");
+    let mut world = World::new(&scenario, 1).expect("bench world");
+    world
+        .advance(0.01)
+        .expect("one step settles the broad phase");
+    let sensor = ColourRangeSensor::new(ColourRangeConfig::default());
+    let surfaces = world.surfaces();
+    let lookup = |h: ColliderHandle| surfaces.get(&h).copied();
+    let scene = SensorScene {
+        bodies: world.bodies(),
+        colliders: world.colliders(),
+        broad_phase: &world.physics().broad_phase,
+        surface: &lookup,
+        texture_seed: world.seed(),
+        exclude: Some(world.humanoid().parts().body),
+    };
+    let pose = world.humanoid().sensor_pose()
+        * UnitQuaternion::from_euler_angles(0.0, 20f64.to_radians(), 0.0);
+    let valid = sensor.capture(&scene, &pose, 0.0, 0).valid_count();
+    eprintln!("range_frame_world: {valid} pixels return");
+    report_cpu("range_frame_world", |seed| {
+        black_box(sensor.capture(&scene, &pose, 0.0, seed));
+    });
+
+    let mut seed = 0u64;
+    c.bench_function("range_frame_world_176x144", |b| {
+        b.iter(|| {
+            seed += 1;
+            black_box(sensor.capture(&scene, black_box(&pose), 0.0, seed))
+        })
+    });
+}
+
+/// Prints the CPU time (user + system, all threads) per call of `frame` over 200 calls: on a shared
+/// machine wall-clock medians mostly measure the other processes, CPU time measures the sensor.
+fn report_cpu(label: &str, mut frame: impl FnMut(u64)) {
+    let frames = 200;
+    let Some(before) = process_cpu_seconds() else {
+        return;
+    };
+    for seed in 0..frames {
+        frame(seed);
+    }
+    if let Some(after) = process_cpu_seconds() {
+        eprintln!(
+            "{label}: {:.2} ms CPU per frame over {frames} frames",
+            (after - before) * 1e3 / frames as f64
+        );
+    }
+}
+
+/// User + system CPU time of this process so far (s), from /proc (Linux only).
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15 (1-based).
+    let rest = stat.rsplit_once(')')?.1;
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    // Linux reports these in clock ticks of 1/100 s on every common configuration.
+    Some((utime + stime) / 100.0)
+}
+
+criterion_group!(benches, bench_frame, bench_world_frame);
 criterion_main!(benches);

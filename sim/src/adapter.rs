@@ -50,6 +50,11 @@ impl SimRobot {
         &mut self.world
     }
 
+    /// The range sensor model.
+    pub fn range_sensor(&self) -> &ColourRangeSensor {
+        &self.range
+    }
+
     /// How many range frames were captured.
     pub fn frames(&self) -> u64 {
         self.frames
@@ -146,24 +151,7 @@ impl WristSensor for SimRobot {
     }
 
     fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
-        match self.world.wrist_sensor().latest() {
-            Some(w) => Ok(w),
-            None => {
-                // No sample yet (no time has passed): let one sensor period pass.
-                let period = 1.0 / self.world.wrist_sensor().config().rate_hz;
-                self.world.advance(period).map_err(|e| RobotError::Fault {
-                    capability: "wrist sensor",
-                    reason: e.to_string(),
-                })?;
-                self.world
-                    .wrist_sensor()
-                    .latest()
-                    .ok_or_else(|| RobotError::Fault {
-                        capability: "wrist sensor",
-                        reason: "no reading after one sensor period".into(),
-                    })
-            }
-        }
+        Ok(self.world.wrist_reading())
     }
 
     fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
@@ -205,8 +193,8 @@ impl Arm for SimRobot {
 
 impl RangeCamera for SimRobot {
     /// One frame from the head's current pose. The robot's bounding body is invisible to it; the
-    /// hand is not (a real camera sees the hand too). Noise is fixed by the world's seed and the
-    /// frame number, so a run is the same every time.
+    /// hand occludes but its own returns are self-filtered (lost pixels). Noise is fixed by the
+    /// world's seed and the frame number, so a run is the same every time.
     fn capture(&mut self) -> Result<ColourCloud, RobotError> {
         let world = &self.world;
         let surfaces = world.surfaces();

@@ -4,7 +4,7 @@ mod range_scene;
 
 use nalgebra::{Point3, Vector3};
 use nudge_perception::CloudFrame;
-use nudge_sim::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor};
+use nudge_sim::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, RayCaster};
 use nudge_sim::surface::Owner;
 use range_scene::{TestScene, pose, range_of};
 use rapier3d::prelude::RigidBodyType;
@@ -157,8 +157,9 @@ fn returns_past_max_range_and_inside_min_range_are_nan() {
 }
 
 #[test]
-fn the_robots_own_body_is_not_seen() {
-    // A robot part in front of the sensor hides the box behind it unless the robot's body is excluded.
+fn the_robots_own_body_is_seen_through_and_its_parts_are_filtered() {
+    // A robot part in front of the sensor: excluded, the box behind it is seen; not excluded, its
+    // pixels are lost under the self filter and show the part without it.
     let mut scene = box_ahead_scene();
     let (robot, _) = scene.add_box(
         RigidBodyType::KinematicPositionBased,
@@ -168,20 +169,102 @@ fn the_robots_own_body_is_not_seen() {
         Owner::Robot,
     );
     scene.refresh();
-    let sensor = ColourRangeSensor::new(noise_free());
-    let c = sensor.config();
+    let filtered = ColourRangeSensor::new(noise_free());
+    let unfiltered = ColourRangeSensor::new(ColourRangeConfig {
+        self_filter: false,
+        ..noise_free()
+    });
+    let c = filtered.config();
     let centre = (c.height / 2) * c.width + c.width / 2;
     let at = pose([0.0, 0.0, 1.0], 0.0, 0.0);
 
-    let seen = scene.capture(&sensor, &at, 5, None);
-    let r = range_of(&seen, centre).expect("the robot part returns");
-    assert!((r - 0.45).abs() < 0.01, "range {r}");
-    assert_eq!(seen.colours()[centre], [40, 40, 40]);
-
-    let excluded = scene.capture(&sensor, &at, 5, Some(robot));
+    let excluded = scene.capture(&filtered, &at, 5, Some(robot));
     let r = range_of(&excluded, centre).expect("the box returns");
     assert!((r - 2.0).abs() < 0.01, "range {r}");
     assert_eq!(excluded.colours()[centre], BOX_COLOUR);
+
+    let lost = scene.capture(&filtered, &at, 5, None);
+    assert!(lost.point(centre).is_none());
+
+    let seen = scene.capture(&unfiltered, &at, 5, None);
+    let r = range_of(&seen, centre).expect("the robot part returns");
+    assert!((r - 0.45).abs() < 0.01, "range {r}");
+    assert_eq!(seen.colours()[centre], [40, 40, 40]);
+}
+
+#[test]
+fn row_culled_and_query_pipeline_casters_agree() {
+    // Both ray casters return the same pixels with the same ranges and colours (up to float rounding
+    // at silhouettes), on a scene with a compound, a rotated box and objects beside and behind, seen
+    // from level, tilted, steep and rolled poses.
+    let mut scene = TestScene::with_floor();
+    scene.add_box(
+        RigidBodyType::Fixed,
+        [2.5, 0.4, 0.5],
+        [0.3, 0.2, 0.5],
+        BOX_COLOUR,
+        Owner::Object(0),
+    );
+    scene.add_rotated_box([1.8, -0.6, 0.3], [0.2, 0.4, 0.3], 0.7, [20, 160, 60]);
+    scene.add_table([3.0, -0.2], [0.4, 0.6], 0.72, [140, 90, 50]);
+    scene.add_box(
+        RigidBodyType::Fixed,
+        [-1.0, 0.0, 0.5],
+        [0.3, 0.3, 0.5],
+        [90, 90, 200],
+        Owner::Object(3),
+    );
+    scene.add_box(
+        RigidBodyType::Fixed,
+        [0.3, 1.2, 1.0],
+        [0.2, 0.2, 1.0],
+        [200, 200, 90],
+        Owner::Object(4),
+    );
+    scene.refresh();
+    let culled = ColourRangeSensor::new(ColourRangeConfig {
+        caster: RayCaster::RowCulled,
+        ..ColourRangeConfig::default()
+    });
+    let reference = ColourRangeSensor::new(ColourRangeConfig {
+        caster: RayCaster::QueryPipeline,
+        ..ColourRangeConfig::default()
+    });
+    for at in [
+        pose([0.0, 0.0, 1.4], 0.0, 0.35),
+        pose([0.0, 0.0, 1.4], 0.6, 0.2),
+        pose([0.5, 0.2, 1.2], 2.0, 0.5),
+        pose([1.0, -0.5, 0.6], -0.4, -0.1),
+        pose([0.5, 0.0, 1.5], 0.2, 1.4),
+        nalgebra::Isometry3::from_parts(
+            nalgebra::Translation3::new(0.2, 0.1, 1.3),
+            nalgebra::UnitQuaternion::from_euler_angles(0.4, 0.3, -0.2),
+        ),
+    ] {
+        let a = scene.capture(&culled, &at, 21, None);
+        let b = scene.capture(&reference, &at, 21, None);
+        let mut mismatched = 0;
+        for i in 0..a.len() {
+            match (range_of(&a, i), range_of(&b, i)) {
+                (Some(ra), Some(rb)) => {
+                    if (ra - rb).abs() > 1e-4 || a.colours()[i] != b.colours()[i] {
+                        mismatched += 1;
+                    }
+                }
+                (None, None) => {}
+                _ => mismatched += 1,
+            }
+        }
+        assert!(
+            a.valid_count() > 3000,
+            "{} returns at {at}",
+            a.valid_count()
+        );
+        assert!(
+            mismatched * 1000 < a.len(),
+            "{mismatched} pixels differ at {at}"
+        );
+    }
 }
 
 #[test]
@@ -259,4 +342,79 @@ fn map_frame_points_land_on_the_surface_for_a_turned_and_tilted_sensor() {
         on_face > 1000 && on_floor > 1000,
         "{on_face} face, {on_floor} floor"
     );
+}
+
+#[test]
+fn grazing_returns_are_lost() {
+    // Looking level from 0.3 m, floor pixels seen at more than the maximum incidence (80°, i.e. rays
+    // less than 10° below the horizon) are lost even within range; steeper ones return.
+    let scene = {
+        let mut s = TestScene::with_floor();
+        s.refresh();
+        s
+    };
+    let sensor = ColourRangeSensor::new(noise_free());
+    let c = sensor.config().clone();
+    let cloud = scene.capture(&sensor, &pose([0.0, 0.0, 0.3], 0.0, 0.0), 2, None);
+    let col = c.width / 2;
+    let (mut lost, mut kept) = (0, 0);
+    for row in c.height / 2..c.height {
+        let d = sensor.ray_direction(row, col).expect("inside the image");
+        let depression = (-d.z).asin().to_degrees();
+        let range = 0.3 / -d.z;
+        let i = row * c.width + col;
+        if depression < 90.0 - c.max_incidence_deg - 0.2 && range < c.max_range {
+            assert!(cloud.point(i).is_none(), "row {row} at {depression}° kept");
+            lost += 1;
+        } else if depression > 90.0 - c.max_incidence_deg + 0.2 {
+            assert!(cloud.point(i).is_some(), "row {row} at {depression}° lost");
+            kept += 1;
+        }
+    }
+    assert!(lost > 10 && kept > 10, "{lost} lost, {kept} kept");
+}
+
+#[test]
+fn colliders_without_a_surface_get_the_unknown_colour() {
+    // A collider the surface lookup does not know still returns, in the configured unknown colour.
+    let mut scene = TestScene::empty();
+    scene.world.insert(
+        rapier3d::prelude::RigidBodyBuilder::fixed()
+            .translation(rapier3d::prelude::Vector::new(2.0, 0.0, 0.0))
+            .build(),
+        rapier3d::prelude::ColliderBuilder::cuboid(0.1, 1.0, 1.0),
+    );
+    scene.refresh();
+    let sensor = ColourRangeSensor::new(noise_free());
+    let cloud = scene.capture(&sensor, &pose([0.0, 0.0, 0.0], 0.0, 0.0), 2, None);
+    assert!(cloud.valid_count() > 1000);
+    for (_, _, colour) in cloud.iter_valid() {
+        assert_eq!(colour, sensor.config().unknown_colour);
+    }
+}
+
+#[test]
+fn an_invalid_config_or_pose_captures_nothing_without_panicking() {
+    // A sensor built from a bad configuration returns an empty cloud; a NaN pose returns no points.
+    let scene = box_ahead_scene();
+    for bad in [
+        ColourRangeConfig {
+            h_fov_deg: -3.0,
+            ..ColourRangeConfig::default()
+        },
+        ColourRangeConfig {
+            width: usize::MAX,
+            height: 3,
+            ..ColourRangeConfig::default()
+        },
+    ] {
+        let bad = ColourRangeSensor::new(bad);
+        let cloud = scene.capture(&bad, &pose([0.0, 0.0, 1.0], 0.0, 0.0), 1, None);
+        assert!(cloud.is_empty());
+    }
+
+    let good = ColourRangeSensor::new(ColourRangeConfig::default());
+    let cloud = scene.capture(&good, &pose([f64::NAN, 0.0, 1.0], 0.0, 0.0), 1, None);
+    assert_eq!(cloud.len(), 176 * 144);
+    assert_eq!(cloud.valid_count(), 0);
 }

@@ -33,3 +33,22 @@ fn hanging_hand_reads_its_weight() {
         w.advance(0.01 - dt).expect("back onto the 10 ms grid");
     }
 }
+
+#[test]
+fn wrench_is_available_before_time_passes_and_stamped_with_the_clock() {
+    // A reading is there at t = 0 without advancing time, and later readings carry the sensor's
+    // 1 kHz stamps up to the current time; draining returns one sample per millisecond.
+    use nudge_executive::robot::{Clock, WristSensor};
+    use nudge_sim::adapter::SimRobot;
+    let s = robot_and(
+        "name = \"far\"\nkind = \"box\"\nposition = [5.0, 3.0]\nsize = [0.2, 0.2, 0.2]\nmass = 1.0\ncolour = [1, 2, 3]",
+    );
+    let mut robot = SimRobot::new(&s, 2).expect("world");
+    let first = robot.wrench().expect("a reading at t = 0");
+    assert_eq!(first.stamp, 0.0);
+    assert_eq!(robot.now(), 0.0);
+    robot.advance(0.25).expect("advance");
+    let later = robot.wrench().expect("reading");
+    assert!((later.stamp - 0.25).abs() < 1e-9, "stamp {}", later.stamp);
+    assert_eq!(robot.drain_wrenches().expect("drain").len(), 250);
+}

@@ -107,6 +107,12 @@ impl Arm {
         }
     }
 
+    /// Whether the hand is on a guarded line (not on its way to one): the force rises fastest then,
+    /// so the world steps finely.
+    pub fn on_guarded_line(&self) -> bool {
+        matches!(self.motion, Motion::Guarded(_))
+    }
+
     /// Ends a guarded move at the force limit: the wrist stays where it is now.
     pub fn force_limit_reached(&mut self, wrench: Stamped<Wrench>, at: Point3<f64>) {
         self.motion = Motion::Hold;

@@ -270,6 +270,11 @@ impl Humanoid {
         Ok(())
     }
 
+    /// Whether a rapier body of the robot is being moved (walk, turn, hand); the head has no body.
+    pub fn moves_bodies(&self) -> bool {
+        !matches!(self.walk, Walk::Idle(_)) || self.arm.is_moving()
+    }
+
     /// Whether anything of the robot is being moved (walk, head, hand).
     pub fn is_moving(&self) -> bool {
         !matches!(self.walk, Walk::Idle(_)) || self.head.is_moving() || self.arm.is_moving()
@@ -292,7 +297,7 @@ impl Humanoid {
 
     /// Moves walk, head and arm by `dt` seconds and sets the kinematic targets of body and wrist.
     pub fn pre_step(&mut self, dt: f64, physics: &mut PhysicsWorld) {
-        let moving = self.is_moving();
+        let moving = self.moves_bodies();
         self.base = walk::step(
             &mut self.walk,
             &mut self.rates,

@@ -5,7 +5,10 @@
 //!
 //! - **Geometry.** One ray per pixel through a pinhole (tangent-plane) grid, like a real camera: pixel
 //!   centres are equally spaced on the image plane, not in angle. Rays are cast into the rapier scene
-//!   in parallel (rayon, one query pipeline per worker); the robot's own body is never seen.
+//!   in parallel, one image row per rayon task. The default caster gathers the shapes in the view
+//!   frustum through the broad phase once per frame and culls them per row (a row's rays share a
+//!   plane); rapier's query pipeline (one per worker) is the reference it is tested against. The body
+//!   carrying the sensor is never seen; the robot's other parts are self-filtered (their pixels lost).
 //! - **Range.** The sensor measures the distance along the ray. Noise is Gaussian along the ray with
 //!   `σ = σ_ref · (r / r_ref)^a / cos(θ)^b` (θ the angle of incidence): a ToF camera's noise falls with
 //!   the returned amplitude, which drops with distance and with obliquity. Defaults: σ = 4 mm at 1.3 m,
@@ -28,13 +31,15 @@ use nudge_perception::{CloudFrame, ColourCloud};
 use rand::TryRng;
 use rand_distr::{Distribution, StandardNormal};
 use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
-use rapier3d::geometry::{BroadPhaseBvh, ColliderHandle, ColliderSet, Ray};
-use rapier3d::math::{Pose, Real, Rotation, Vector};
+use rapier3d::geometry::{Aabb, BroadPhaseBvh, Collider, ColliderHandle, ColliderSet, Ray};
+use rapier3d::math::{Matrix, Pose, Real, Rotation, Vector};
+use rapier3d::parry::bounding_volume::BoundingVolume;
 use rapier3d::parry::query::DefaultQueryDispatcher;
+use rapier3d::parry::shape::Shape;
 use rapier3d::pipeline::{QueryFilter, QueryFilterFlags, QueryPipeline};
 use rayon::prelude::*;
 
-use crate::surface::Surface;
+use crate::surface::{Owner, Surface};
 
 /// Parameters of the colour range sensor; [`Default`] is the paper's SR-4000 with colour cameras.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,6 +71,25 @@ pub struct ColourRangeConfig {
     pub colour_noise_sigma: f64,
     /// Colour of returns from colliders the surface lookup does not know.
     pub unknown_colour: [u8; 3],
+    /// Drop returns from the robot's own parts (surface owner [`Owner::Robot`]), like ROS's
+    /// robot_self_filter: the pixel is lost, not seen through. The body carrying the sensor is
+    /// excluded altogether through [`SensorScene::exclude`].
+    pub self_filter: bool,
+    /// How rays find their nearest surface.
+    pub caster: RayCaster,
+}
+
+/// How the sensor finds the nearest surface along each ray. Both give the same returns up to float
+/// rounding at silhouette edges.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RayCaster {
+    /// Per frame, gather the leaf shapes inside the view frustum (through the broad phase) and cull
+    /// them per image row: a row's rays lie in one plane, so each leaf covers a column span of it and
+    /// a ray tests only the leaves whose span holds it. Fast for room-sized scenes.
+    #[default]
+    RowCulled,
+    /// Cast every ray through rapier's query pipeline (the broad phase's BVH): the reference.
+    QueryPipeline,
 }
 
 impl Default for ColourRangeConfig {
@@ -84,16 +108,21 @@ impl Default for ColourRangeConfig {
             max_incidence_deg: 80.0,
             colour_noise_sigma: 3.0,
             unknown_colour: [128, 128, 128],
+            self_filter: true,
+            caster: RayCaster::RowCulled,
         }
     }
 }
 
+/// The most pixels a sensor may have (a 4096 × 4096 image): beyond this a typo, not a camera.
+pub const MAX_PIXELS: usize = 1 << 24;
+
 /// Why a [`ColourRangeConfig`] cannot describe a sensor.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 pub enum ColourRangeConfigError {
-    /// The image has no pixels.
-    #[error("image size {width} × {height} has no pixels")]
-    EmptyImage {
+    /// The image has no pixels, or more than [`MAX_PIXELS`].
+    #[error("image size {width} × {height} must have between 1 and {MAX_PIXELS} pixels")]
+    ImageSize {
         /// Columns asked for.
         width: usize,
         /// Rows asked for.
@@ -131,8 +160,14 @@ pub enum ColourRangeConfigError {
 impl ColourRangeConfig {
     /// Checks that the configuration describes a sensor that can see something.
     pub fn validate(&self) -> Result<(), ColourRangeConfigError> {
-        if self.width == 0 || self.height == 0 {
-            return Err(ColourRangeConfigError::EmptyImage {
+        if self.width == 0
+            || self.height == 0
+            || self
+                .width
+                .checked_mul(self.height)
+                .is_none_or(|n| n > MAX_PIXELS)
+        {
+            return Err(ColourRangeConfigError::ImageSize {
                 width: self.width,
                 height: self.height,
             });
@@ -182,10 +217,27 @@ impl ColourRangeConfig {
     /// The range noise σ (m) of a return at distance `range` (m) whose surface normal makes
     /// `cos_incidence` with the ray.
     pub fn range_sigma(&self, range: f64, cos_incidence: f64) -> f64 {
-        let distance_term =
-            (range / self.range_sigma_ref_distance).powf(self.range_sigma_distance_exponent);
-        let incidence_term = cos_incidence.powf(-self.range_sigma_incidence_exponent);
-        self.range_sigma_ref * distance_term * incidence_term
+        let distance_term = power(
+            range / self.range_sigma_ref_distance,
+            self.range_sigma_distance_exponent,
+        );
+        let incidence_term = power(cos_incidence, self.range_sigma_incidence_exponent);
+        self.range_sigma_ref * distance_term / incidence_term
+    }
+}
+
+/// `x^e`, with the exponents the noise model uses most spelled out: `powf` per ray is costly.
+fn power(x: f64, e: f64) -> f64 {
+    if e == 2.0 {
+        x * x
+    } else if e == 1.0 {
+        x
+    } else if e == 0.5 {
+        x.sqrt()
+    } else if e == 0.0 {
+        1.0
+    } else {
+        x.powf(e)
     }
 }
 
@@ -232,6 +284,46 @@ impl SensorScene<'_> {
 }
 
 /// The colour range sensor: a configuration and its precomputed ray directions.
+///
+/// # Example
+///
+/// A red box 2 m ahead of a sensor 1 m above the origin, looking along +x:
+///
+/// ```
+/// use nalgebra::Isometry3;
+/// use nudge_sim::scenario::Texture;
+/// use nudge_sim::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, SensorScene};
+/// use nudge_sim::surface::{Owner, Surface};
+/// use rapier3d::prelude::*;
+///
+/// let mut world = PhysicsWorld::new();
+/// let (_, box_collider) = world.insert(
+///     RigidBodyBuilder::fixed().translation(Vector::new(2.25, 0.0, 1.0)),
+///     ColliderBuilder::cuboid(0.25, 0.5, 0.5),
+/// );
+/// world.detect_collisions(&(), &()); // the sensor sees what the broad phase indexes
+///
+/// let red = Surface { colour: [200, 30, 30], texture: Texture::Plain, owner: Owner::Object(0) };
+/// let lookup = move |h: ColliderHandle| (h == box_collider).then_some(red);
+/// let scene = SensorScene {
+///     bodies: &world.bodies,
+///     colliders: &world.colliders,
+///     broad_phase: &world.broad_phase,
+///     surface: &lookup,
+///     texture_seed: 1,
+///     exclude: None,
+/// };
+/// let sensor = ColourRangeSensor::new(ColourRangeConfig::default());
+/// let pose = Isometry3::translation(0.0, 0.0, 1.0);
+/// let cloud = sensor.capture(&scene, &pose, 0.0, 7);
+///
+/// // The pixel at the image centre sees the box face 2 m ahead (noise σ ≈ 1 cm there).
+/// let centre = 72 * 176 + 88;
+/// let p = cloud.point(centre).expect("the box returns");
+/// assert!((p.x - 2.0).abs() < 0.05 && p.y.abs() < 0.02 && p.z.abs() < 0.02);
+/// let [r, g, b] = cloud.colours()[centre];
+/// assert!(r > 180 && g < 50 && b < 50);
+/// ```
 #[derive(Clone, Debug)]
 pub struct ColourRangeSensor {
     config: ColourRangeConfig,
@@ -243,12 +335,12 @@ pub struct ColourRangeSensor {
 
 impl ColourRangeSensor {
     /// A sensor with `config`. An invalid configuration (see [`ColourRangeConfig::validate`]) gives a
-    /// sensor whose captures hold no valid returns; use [`Self::try_new`] to be told instead.
+    /// sensor whose captures are empty clouds; use [`Self::try_new`] to be told instead.
     pub fn new(config: ColourRangeConfig) -> Self {
         let directions = if config.validate().is_ok() {
             pixel_directions(&config)
         } else {
-            vec![Vector::splat(Real::NAN); config.width.saturating_mul(config.height)]
+            Vec::new()
         };
         let min_cos_incidence = config.max_incidence_deg.to_radians().cos().max(0.0) as Real;
         Self {
@@ -283,7 +375,7 @@ impl ColourRangeSensor {
     /// fixed by `frame_seed`.
     ///
     /// Returns an organised `width × height` cloud in the sensor frame. A non-finite pose gives a
-    /// cloud without valid returns.
+    /// cloud without valid returns; a sensor with an invalid configuration gives an empty cloud.
     pub fn capture(
         &self,
         scene: &SensorScene<'_>,
@@ -293,30 +385,46 @@ impl ColourRangeSensor {
     ) -> ColourCloud {
         let (width, height) = (self.config.width, self.config.height);
         let n = self.directions.len();
+        if n == 0 {
+            // Only an invalid configuration leaves the sensor without rays.
+            return ColourCloud::empty(CloudFrame::Sensor, *sensor_pose, stamp);
+        }
         let mut xs = vec![f32::NAN; n];
         let mut ys = vec![f32::NAN; n];
         let mut zs = vec![f32::NAN; n];
         let mut rgb = vec![[0u8; 3]; n];
 
         let pose = to_pose(sensor_pose);
-        if width > 0 && pose.is_finite() {
+        if pose.is_finite() {
             let frame = Frame {
                 sensor: self,
                 scene,
                 pose,
                 frame_seed,
             };
-            xs.par_chunks_mut(width)
+            let rows = xs
+                .par_chunks_mut(width)
                 .zip(ys.par_chunks_mut(width))
                 .zip(zs.par_chunks_mut(width))
                 .zip(rgb.par_chunks_mut(width))
-                .enumerate()
-                .for_each_init(
-                    || scene.query_pipeline(),
-                    |pipeline, (row, (((x, y), z), c))| {
-                        frame.trace_row(pipeline, row, RowOut { x, y, z, rgb: c });
+                .enumerate();
+            match self.config.caster {
+                RayCaster::RowCulled => {
+                    let leaves = Leaves::gather(&frame);
+                    rows.for_each_init(
+                        || CulledCaster::new(&leaves),
+                        |caster, (row, (((x, y), z), c))| {
+                            frame.trace_row(caster, row, RowOut { x, y, z, rgb: c });
+                        },
+                    );
+                }
+                RayCaster::QueryPipeline => rows.for_each_init(
+                    || PipelineCaster::new(scene),
+                    |caster, (row, (((x, y), z), c))| {
+                        frame.trace_row(caster, row, RowOut { x, y, z, rgb: c });
                     },
-                );
+                ),
+            }
         }
 
         match ColourCloud::organised(
@@ -381,48 +489,52 @@ struct Frame<'f> {
     frame_seed: u64,
 }
 
-/// The last collider a row hit, so neighbouring pixels on one surface skip the lookups.
-struct HitCache {
-    handle: ColliderHandle,
+/// The nearest surface a ray meets.
+struct Hit<'c> {
+    collider: &'c Collider,
     surface: Option<Surface>,
-    collider_pose: Pose,
+    /// Distance along the ray (m).
+    toi: Real,
+    /// World-frame surface normal at the hit.
+    normal: Vector,
+}
+
+/// Finds the nearest surface along each ray of a row; one per rayon worker.
+trait RowCaster<'c> {
+    /// Prepares for the rays of `row`.
+    fn begin_row(&mut self, row: usize);
+    /// The nearest surface within `max_range` along `ray`, the ray of column `col`.
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>>;
 }
 
 impl Frame<'_> {
     /// Traces every pixel of `row` and writes its return (or NaN) into `out`.
-    fn trace_row(&self, pipeline: &QueryPipeline<'_>, row: usize, out: RowOut<'_>) {
+    fn trace_row<'c>(&self, caster: &mut impl RowCaster<'c>, row: usize, out: RowOut<'_>) {
         let config = &self.sensor.config;
         let width = config.width;
         let min_range = config.min_range as Real;
         let max_range = config.max_range as Real;
-        let mut cache: Option<HitCache> = None;
         let first = row * width;
         let dirs = &self.sensor.directions[first..first + width];
+        caster.begin_row(row);
+        let rotation = Matrix::from_quat(self.pose.rotation);
 
         for (col, dir) in dirs.iter().enumerate() {
-            let world_dir = self.pose.rotation * *dir;
+            let world_dir = rotation * *dir;
             let ray = Ray::new(self.pose.translation, world_dir);
-            let Some((handle, hit)) = pipeline.cast_ray_and_get_normal(&ray, max_range, true)
-            else {
+            let Some(hit) = caster.first_hit(col, &ray, max_range) else {
                 continue;
             };
+            let toi = hit.toi;
             let cos_incidence = hit.normal.dot(world_dir).abs();
-            if hit.time_of_impact < min_range || cos_incidence < self.sensor.min_cos_incidence {
+            let own_part =
+                config.self_filter && hit.surface.is_some_and(|s| matches!(s.owner, Owner::Robot));
+            if toi < min_range || cos_incidence < self.sensor.min_cos_incidence || own_part {
                 continue;
             }
 
-            let cached = match cache.take() {
-                Some(c) if c.handle == handle => Some(c),
-                _ => self.scene.colliders.get(handle).map(|co| HitCache {
-                    handle,
-                    surface: (self.scene.surface)(handle),
-                    collider_pose: *co.position(),
-                }),
-            };
-            let Some(cached) = cached else { continue };
-
             let mut noise = RayRng::new(self.frame_seed, first + col);
-            let true_range = f64::from(hit.time_of_impact);
+            let true_range = f64::from(toi);
             let sigma = config.range_sigma(true_range, f64::from(cos_incidence));
             let range = true_range + sigma * gaussian(&mut noise);
             let p = *dir * range as Real;
@@ -430,10 +542,10 @@ impl Frame<'_> {
             out.y[col] = p.y;
             out.z[col] = p.z;
 
-            let base = match &cached.surface {
+            let base = match &hit.surface {
                 Some(surface) => {
-                    let world_hit = ray.origin + world_dir * hit.time_of_impact;
-                    let local = cached.collider_pose.inverse_transform_point(world_hit);
+                    let world_hit = ray.origin + world_dir * toi;
+                    let local = hit.collider.position().inverse_transform_point(world_hit);
                     let local =
                         Point3::new(f64::from(local.x), f64::from(local.y), f64::from(local.z));
                     surface.colour_at(local, self.scene.texture_seed)
@@ -442,10 +554,339 @@ impl Frame<'_> {
             };
             out.rgb[col] = base.map(|c| {
                 let v = f64::from(c) + config.colour_noise_sigma * gaussian(&mut noise);
-                v.round().clamp(0.0, 255.0) as u8
+                // Rounds half up; the float-to-int cast saturates, which clamps to 0–255.
+                (v + 0.5) as u8
             });
-            cache = Some(cached);
         }
+    }
+}
+
+/// Rays through rapier's query pipeline (the broad phase's BVH), the reference caster.
+struct PipelineCaster<'c> {
+    scene: &'c SensorScene<'c>,
+    pipeline: QueryPipeline<'c>,
+    /// The last collider hit and its surface: neighbouring pixels mostly share a collider.
+    last: Option<(ColliderHandle, &'c Collider, Option<Surface>)>,
+}
+
+impl<'c> PipelineCaster<'c> {
+    fn new(scene: &'c SensorScene<'c>) -> Self {
+        Self {
+            scene,
+            pipeline: scene.query_pipeline(),
+            last: None,
+        }
+    }
+}
+
+impl<'c> RowCaster<'c> for PipelineCaster<'c> {
+    fn begin_row(&mut self, _row: usize) {}
+
+    fn first_hit(&mut self, _col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>> {
+        // The BVH's ray cast without normals takes parry's SIMD path; the normal then comes from
+        // the one collider hit.
+        let (handle, _) = self.pipeline.cast_ray(ray, max_range, true)?;
+        let (collider, surface) = match self.last {
+            Some((h, co, surface)) if h == handle => (co, surface),
+            _ => {
+                let co = self.scene.colliders.get(handle)?;
+                let surface = (self.scene.surface)(handle);
+                self.last = Some((handle, co, surface));
+                (co, surface)
+            }
+        };
+        let intersection =
+            collider
+                .shape()
+                .cast_ray_and_get_normal(collider.position(), ray, max_range, true)?;
+        Some(Hit {
+            collider,
+            surface,
+            toi: intersection.time_of_impact,
+            normal: intersection.normal,
+        })
+    }
+}
+
+/// One piece of a visible collider (a compound's part, or the whole shape) in world coordinates,
+/// with its bounding box corners in the sensor frame for culling.
+struct Leaf<'c> {
+    collider: &'c Collider,
+    surface: Option<Surface>,
+    geometry: LeafGeometry<'c>,
+    /// World AABB corners, in the sensor frame.
+    corners: [Vector; 8],
+    /// Distance from the sensor to the leaf's AABB: no ray meets the leaf nearer than this.
+    near: Real,
+}
+
+/// How a leaf meets a ray.
+enum LeafGeometry<'c> {
+    /// A box, traced with a slab test in its own frame: most of a room is boxes, and this is several
+    /// times cheaper than the generic shape cast.
+    Cuboid {
+        half: Vector,
+        /// World → box rotation.
+        to_local: Matrix,
+        /// Box → world rotation.
+        to_world: Matrix,
+        /// The sensor's position in the box frame (every ray of a frame starts there).
+        origin: Vector,
+    },
+    /// Any other shape, through parry.
+    Shape { shape: &'c dyn Shape, pose: Pose },
+}
+
+impl LeafGeometry<'_> {
+    fn new<'s>(shape: &'s dyn Shape, pose: Pose, sensor_origin: Vector) -> LeafGeometry<'s> {
+        match shape.as_cuboid() {
+            Some(cuboid) => LeafGeometry::Cuboid {
+                half: cuboid.half_extents,
+                to_local: Matrix::from_quat(pose.rotation.inverse()),
+                to_world: Matrix::from_quat(pose.rotation),
+                origin: pose.inverse_transform_point(sensor_origin),
+            },
+            None => LeafGeometry::Shape { shape, pose },
+        }
+    }
+
+    /// Distance along `ray` (direction `ray.dir`, unit) to the leaf if under `limit`; 0 when the
+    /// ray starts inside.
+    fn toi(&self, ray: &Ray, limit: Real) -> Option<Real> {
+        match self {
+            LeafGeometry::Cuboid {
+                half,
+                to_local,
+                origin,
+                ..
+            } => {
+                let inv = (*to_local * ray.dir).recip();
+                let t1 = (-*half - *origin) * inv;
+                let t2 = (*half - *origin) * inv;
+                let enter = t1.min(t2).max_element().max(0.0);
+                let exit = t1.max(t2).min_element();
+                (enter <= exit && enter <= limit).then_some(enter)
+            }
+            LeafGeometry::Shape { shape, pose } => shape.cast_ray(pose, ray, limit, true),
+        }
+    }
+
+    /// The world-frame normal where `ray` meets the leaf at `toi`, or `None` if it does not.
+    fn normal(&self, ray: &Ray, toi: Real, max_range: Real) -> Option<Vector> {
+        match self {
+            LeafGeometry::Cuboid {
+                half,
+                to_local,
+                to_world,
+                origin,
+            } => {
+                // The face the local hit point is nearest to, relative to the box's size.
+                let p = *origin + (*to_local * ray.dir) * toi;
+                let rel = (p / *half).abs();
+                let axis = if rel.x >= rel.y && rel.x >= rel.z {
+                    Vector::X * p.x.signum()
+                } else if rel.y >= rel.z {
+                    Vector::Y * p.y.signum()
+                } else {
+                    Vector::Z * p.z.signum()
+                };
+                Some(*to_world * axis)
+            }
+            LeafGeometry::Shape { shape, pose } => shape
+                .cast_ray_and_get_normal(pose, ray, max_range, true)
+                .map(|hit| hit.normal),
+        }
+    }
+}
+
+/// Every leaf a frame's rays can reach.
+struct Leaves<'c> {
+    leaves: Vec<Leaf<'c>>,
+    /// Tangent of half the horizontal field of view.
+    half_w: Real,
+    /// Tangent of half the vertical field of view.
+    half_h: Real,
+    width: usize,
+    height: usize,
+}
+
+impl<'c> Leaves<'c> {
+    /// The leaves of the colliders the broad phase finds inside the view frustum's bounding box, with
+    /// the scene's filter (robot body excluded, trigger volumes skipped).
+    fn gather(frame: &Frame<'c>) -> Self {
+        let config = &frame.sensor.config;
+        let half_w = (config.h_fov_deg.to_radians() / 2.0).tan() as Real;
+        let half_h = (config.v_fov_deg.to_radians() / 2.0).tan() as Real;
+        let max_range = config.max_range as Real;
+        // Every point within max_range along a ray of the frustum lies in the pyramid from the
+        // sensor to the far rectangle at x = max_range.
+        let mut frustum_points = vec![frame.pose.translation];
+        for (sy, sz) in [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)] {
+            let far = Vector::new(max_range, sy * half_w * max_range, sz * half_h * max_range);
+            frustum_points.push(frame.pose.transform_point(far));
+        }
+        let frustum = Aabb::from_points(frustum_points);
+
+        let scene = frame.scene;
+        let pipeline = scene.query_pipeline();
+        let mut leaves = Vec::new();
+        let handles: Vec<ColliderHandle> = pipeline
+            .intersect_aabb_conservative(frustum)
+            .map(|(handle, _)| handle)
+            .collect();
+        for handle in handles {
+            let Some(collider) = scene.colliders.get(handle) else {
+                continue;
+            };
+            let surface = (scene.surface)(handle);
+            let mut push = |shape: &'c dyn Shape, pose: Pose| {
+                let aabb = shape.compute_aabb(&pose);
+                if !aabb.intersects(&frustum) {
+                    return;
+                }
+                // Corner i takes maxs on the axes whose bit is set in i (x = 1, y = 2, z = 4), so
+                // box edges join corners whose indices differ in one bit.
+                let corners: [Vector; 8] = std::array::from_fn(|i| {
+                    let pick = |bit: usize, lo: Real, hi: Real| if i & bit == 0 { lo } else { hi };
+                    let v = Vector::new(
+                        pick(1, aabb.mins.x, aabb.maxs.x),
+                        pick(2, aabb.mins.y, aabb.maxs.y),
+                        pick(4, aabb.mins.z, aabb.maxs.z),
+                    );
+                    frame.pose.inverse_transform_point(v)
+                });
+                leaves.push(Leaf {
+                    collider,
+                    surface,
+                    geometry: LeafGeometry::new(shape, pose, frame.pose.translation),
+                    corners,
+                    near: (frame.pose.translation
+                        - frame.pose.translation.clamp(aabb.mins, aabb.maxs))
+                    .length(),
+                });
+            };
+            match collider.shape().as_compound() {
+                Some(compound) => {
+                    for (part_pose, part) in compound.shapes() {
+                        push(part.as_ref(), *collider.position() * *part_pose);
+                    }
+                }
+                None => push(collider.shape(), *collider.position()),
+            }
+        }
+        // Nearest first (ties keep the broad phase's order, so the order is deterministic).
+        leaves.sort_by(|a, b| a.near.total_cmp(&b.near));
+        Self {
+            leaves,
+            half_w,
+            half_h,
+            width: config.width,
+            height: config.height,
+        }
+    }
+
+    /// The columns `[lo, hi]` of `row` whose rays may meet `leaf`, or `None` if none may.
+    ///
+    /// A row's rays all lie in one plane through the sensor; the leaf's box meets that plane in a
+    /// convex polygon, and the rays that can hit it are those within the polygon's angular span.
+    fn columns(&self, leaf: &Leaf<'_>, row: usize) -> Option<(usize, usize)> {
+        let up = self.half_h * (1.0 - (2.0 * row as Real + 1.0) / self.height as Real);
+        // Rays (1, y, up) satisfy z - up·x = 0.
+        let side = leaf.corners.map(|c| c.z - up * c.x);
+        let (mut y_min, mut y_max) = (Real::INFINITY, Real::NEG_INFINITY);
+        let mut behind = false;
+        let mut any = false;
+        let mut visit = |p: Vector| {
+            any = true;
+            if p.x <= 1e-6 {
+                behind = true;
+            } else {
+                let y = p.y / p.x;
+                y_min = y_min.min(y);
+                y_max = y_max.max(y);
+            }
+        };
+        for (i, &si) in side.iter().enumerate() {
+            if si == 0.0 {
+                visit(leaf.corners[i]);
+            }
+            // Box edges join corners whose indices differ in one bit.
+            for bit in [1, 2, 4] {
+                let j = i ^ bit;
+                if j > i && si * side[j] < 0.0 {
+                    let t = si / (si - side[j]);
+                    visit(leaf.corners[i] + (leaf.corners[j] - leaf.corners[i]) * t);
+                }
+            }
+        }
+        if !any {
+            return None;
+        }
+        if behind {
+            // The section reaches beside or behind the sensor: do not cull within the row.
+            return Some((0, self.width - 1));
+        }
+        // Column c looks along y = half_w · (1 − (2c + 1) / width); y falls as c grows.
+        let col_of = |y: Real| ((1.0 - y / self.half_w) * self.width as Real - 1.0) / 2.0;
+        let lo = (col_of(y_max).floor() - 1.0).max(0.0);
+        let hi = (col_of(y_min).ceil() + 1.0).min(self.width as Real - 1.0);
+        (lo <= hi).then_some((lo as usize, hi as usize))
+    }
+}
+
+/// Rays against a frame's leaves, culled per row: each ray only tests the few leaves whose column
+/// span in its row contains it.
+struct CulledCaster<'l, 'c> {
+    leaves: &'l Leaves<'c>,
+    /// (first column, last column, leaf index) of the leaves the current row may see.
+    candidates: Vec<(usize, usize, usize)>,
+}
+
+impl<'l, 'c> CulledCaster<'l, 'c> {
+    fn new(leaves: &'l Leaves<'c>) -> Self {
+        Self {
+            leaves,
+            candidates: Vec::with_capacity(leaves.leaves.len()),
+        }
+    }
+}
+
+impl<'c> RowCaster<'c> for CulledCaster<'_, 'c> {
+    fn begin_row(&mut self, row: usize) {
+        self.candidates.clear();
+        for (i, leaf) in self.leaves.leaves.iter().enumerate() {
+            if let Some((lo, hi)) = self.leaves.columns(leaf, row) {
+                self.candidates.push((lo, hi, i));
+            }
+        }
+    }
+
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>> {
+        let mut best: Option<(usize, Real)> = None;
+        for &(lo, hi, i) in &self.candidates {
+            if col < lo || col > hi {
+                continue;
+            }
+            // Leaves come nearest first (see `Leaves::gather`): past the best hit, none can beat it.
+            if best.is_some_and(|(_, t)| self.leaves.leaves[i].near > t) {
+                break;
+            }
+            let limit = best.map_or(max_range, |(_, t)| t);
+            if let Some(t) = self.leaves.leaves[i].geometry.toi(ray, limit)
+                && best.is_none_or(|(_, b)| t < b)
+            {
+                best = Some((i, t));
+            }
+        }
+        let (i, toi) = best?;
+        let leaf = &self.leaves.leaves[i];
+        let normal = leaf.geometry.normal(ray, toi, max_range)?;
+        Some(Hit {
+            collider: leaf.collider,
+            surface: leaf.surface,
+            toi,
+            normal,
+        })
     }
 }
 
@@ -523,6 +964,11 @@ mod tests {
                 ..Default::default()
             },
             ColourRangeConfig {
+                width: usize::MAX,
+                height: 2,
+                ..Default::default()
+            },
+            ColourRangeConfig {
                 h_fov_deg: 180.0,
                 ..Default::default()
             },
@@ -540,11 +986,7 @@ mod tests {
             },
         ] {
             assert!(ColourRangeSensor::try_new(bad.clone()).is_err(), "{bad:?}");
-            let sensor = ColourRangeSensor::new(bad);
-            assert_eq!(
-                sensor.directions.len(),
-                sensor.config.width * sensor.config.height
-            );
+            assert!(ColourRangeSensor::new(bad).directions.is_empty());
         }
     }
 

@@ -1,9 +1,10 @@
 //! The simulated world: a rapier scene built from a scenario (Z up), with the humanoid, the actors
 //! and the wrist sensor, advanced in physics steps whose length adapts to what is going on.
 //!
-//! Stepping: 1 ms steps while the hand is moving or touching something (the wrist sensor and the
-//! guarded-move check run every step), 10 ms steps otherwise, aligned to a 10 ms grid; when nothing
-//! is commanded to move and every dynamic body sleeps, time passes without a physics step.
+//! Stepping: 1 ms steps while the hand is on a guarded line or touching something (the guarded-move
+//! check runs every step), 10 ms steps otherwise, aligned to a 10 ms grid; when no body is commanded
+//! to move (the head has none) and every dynamic body sleeps, time passes without a physics step.
+//! The wrist sensor samples at its own rate throughout, holding the last step's wrench.
 
 pub mod build;
 pub mod convert;
@@ -23,6 +24,10 @@ use convert::iso_from_pose;
 
 /// Physics step while the hand moves or touches (µs): the wrist sensor's 1 kHz.
 pub const FINE_STEP_US: u64 = 1_000;
+/// Solver substeps of a fine step: 1 ms is already short for the hand's 20 kN/m wrist (ω h ≈ 0.2).
+pub const FINE_SUBSTEPS: usize = 2;
+/// Solver substeps of a coarse step (rapier's default).
+pub const COARSE_SUBSTEPS: usize = 4;
 /// Physics step otherwise (µs).
 pub const COARSE_STEP_US: u64 = 10_000;
 /// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
@@ -75,6 +80,7 @@ pub struct World {
     time_us: u64,
     seed: u64,
     steps: u64,
+    fine_steps: u64,
     room_size: [f64; 2],
     robot_height: f64,
 }
@@ -138,6 +144,7 @@ impl World {
             time_us: 0,
             seed,
             steps: 0,
+            fine_steps: 0,
             room_size: room.size,
             robot_height: scenario.robot.height,
         };
@@ -160,6 +167,11 @@ impl World {
     /// Number of physics steps taken so far.
     pub fn steps(&self) -> u64 {
         self.steps
+    }
+
+    /// Number of physics steps of [`FINE_STEP_US`] or less taken so far.
+    pub fn fine_steps(&self) -> u64 {
+        self.fine_steps
     }
 
     /// The room's extent along x and y (m); its corner is at the origin.
@@ -233,6 +245,17 @@ impl World {
         self.wrist_truth
     }
 
+    /// The wrist sensor's latest tared reading; before its first sample, one fresh reading now.
+    pub fn wrist_reading(&mut self) -> Stamped<Wrench> {
+        match self.wrist_ft.latest() {
+            Some(w) => w,
+            None => {
+                let truth = self.wrist_truth;
+                self.wrist_ft.record(&truth, self.time_us, self.time_us)
+            }
+        }
+    }
+
     /// Zeroes the wrist sensor on its recent readings.
     pub fn tare_wrist(&mut self) {
         let truth = self.wrist_truth;
@@ -273,10 +296,11 @@ impl World {
         Ok(())
     }
 
-    /// Whether the hand is moving or touching something: then the sensor needs every millisecond.
+    /// Whether the hand is on a guarded line or touching something: then the force changes fast and
+    /// the guard and the sensor need every millisecond.
     fn needs_fine_steps(&self) -> bool {
         let hand = self.humanoid.parts().hand_collider;
-        self.humanoid.arm().is_moving()
+        self.humanoid.arm().on_guarded_line()
             || self
                 .physics
                 .narrow_phase
@@ -292,7 +316,7 @@ impl World {
             actor.update(t1 as f64 * 1.0e-6, &mut self.physics);
         }
         self.humanoid.pre_step(h, &mut self.physics);
-        let commanded = self.humanoid.is_moving() || self.actors.iter().any(|a| a.is_moving());
+        let commanded = self.humanoid.moves_bodies() || self.actors.iter().any(|a| a.is_moving());
         let awake = self
             .physics
             .islands
@@ -300,8 +324,16 @@ impl World {
             .any(|b| self.physics.bodies.get(b).is_some_and(|b| b.is_dynamic()));
         if commanded || awake {
             self.physics.integration_parameters.dt = h as f32;
+            self.physics.integration_parameters.num_solver_iterations = if h_us <= FINE_STEP_US {
+                FINE_SUBSTEPS
+            } else {
+                COARSE_SUBSTEPS
+            };
             self.physics.step();
             self.steps += 1;
+            if h_us <= FINE_STEP_US {
+                self.fine_steps += 1;
+            }
             let substeps = self.physics.integration_parameters.num_solver_iterations;
             if let Some(joint) = self.physics.impulse_joints.get(self.humanoid.parts().joint) {
                 self.wrist_truth = wrench_on_wrist(joint, substeps, h);

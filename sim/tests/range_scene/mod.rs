@@ -83,6 +83,61 @@ impl TestScene {
         (b, c)
     }
 
+    /// Adds a fixed plain box turned by `yaw` about z.
+    pub fn add_rotated_box(&mut self, centre: [f32; 3], half: [f32; 3], yaw: f32, colour: [u8; 3]) {
+        let body = RigidBodyBuilder::fixed()
+            .translation(Vector::new(centre[0], centre[1], centre[2]))
+            .rotation(Vector::new(0.0, 0.0, yaw))
+            .build();
+        let (_, c) = self
+            .world
+            .insert(body, ColliderBuilder::cuboid(half[0], half[1], half[2]));
+        self.surfaces.insert(
+            c,
+            Surface {
+                colour,
+                texture: Texture::Stripes,
+                owner: Owner::Object(1),
+            },
+        );
+    }
+
+    /// Adds a table as one compound collider: a 4 cm top of half extents `half` at `height` on four
+    /// 5 cm legs, footprint centred at `centre`.
+    pub fn add_table(&mut self, centre: [f32; 2], half: [f32; 2], height: f32, colour: [u8; 3]) {
+        let cuboid = |c: [f32; 3], h: [f32; 3]| {
+            (
+                Pose::from_translation(Vector::new(c[0], c[1], c[2])),
+                SharedShape::cuboid(h[0], h[1], h[2]),
+            )
+        };
+        let mut parts = vec![cuboid([0.0, 0.0, height - 0.02], [half[0], half[1], 0.02])];
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                parts.push(cuboid(
+                    [
+                        sx * (half[0] - 0.025),
+                        sy * (half[1] - 0.025),
+                        (height - 0.04) / 2.0,
+                    ],
+                    [0.025, 0.025, (height - 0.04) / 2.0],
+                ));
+            }
+        }
+        let body = RigidBodyBuilder::dynamic()
+            .translation(Vector::new(centre[0], centre[1], 0.0))
+            .build();
+        let (_, c) = self.world.insert(body, ColliderBuilder::compound(parts));
+        self.surfaces.insert(
+            c,
+            Surface {
+                colour,
+                texture: Texture::Checker,
+                owner: Owner::Object(2),
+            },
+        );
+    }
+
     /// Brings the broad phase up to date with the colliders, as the sensor requires.
     pub fn refresh(&mut self) {
         self.world.detect_collisions(&(), &());
