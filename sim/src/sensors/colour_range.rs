@@ -12,7 +12,8 @@
 //! - **Range.** The sensor measures the distance along the ray. Noise is Gaussian along the ray with
 //!   `σ = σ_ref · (r / r_ref)^a / cos(θ)^b` (θ the angle of incidence): a ToF camera's noise falls with
 //!   the returned amplitude, which drops with distance and with obliquity. Defaults: σ = 4 mm at 1.3 m,
-//!   a = 2, b = 0.5. Returns nearer than `min_range`, beyond `max_range` (no phase wrap is modelled:
+//!   a = 1, b = 0.5: shot-noise-limited, which matches the SR-4000's ~1 cm spread at its 5 m limit;
+//!   a = 2 (background-limited, σ ≈ 6 cm at 5 m) is available for a harsher sensor. Returns nearer than `min_range`, beyond `max_range` (no phase wrap is modelled:
 //!   the sensor's amplitude filter drops them) or at grazing incidence are lost.
 //! - **Colour.** The colour of the true surface point, from [`Surface::colour_at`] in the collider's own
 //!   frame (so textures move with objects), plus Gaussian noise per channel.
@@ -103,7 +104,7 @@ impl Default for ColourRangeConfig {
             max_range: 5.0,
             range_sigma_ref: 0.004,
             range_sigma_ref_distance: 1.3,
-            range_sigma_distance_exponent: 2.0,
+            range_sigma_distance_exponent: 1.0,
             range_sigma_incidence_exponent: 0.5,
             max_incidence_deg: 80.0,
             colour_noise_sigma: 3.0,
