@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod cloud;
+pub mod grid;
 pub mod prism;
 
 pub use cloud::{CloudError, CloudFrame, ColourCloud, Rgb};
