@@ -20,6 +20,7 @@ fn grid() -> ObstacleGrid {
         moving_step: 0.1,
         rest_radius: 0.3,
         clear_margin: 0.3,
+        clear_tail: 0.0,
     };
     ObstacleGrid::new(geom, cfg)
 }

@@ -31,10 +31,13 @@ pub enum Rule {
     MovingExpired = 8,
     /// A stationary (or actively marked) cell seen free through and through in consecutive frames.
     StationaryCleared = 9,
+    /// A resting return next to a movable cell found by addition or retention: a new face of the same
+    /// movable obstacle coming into view (Tamura 3.2.2's ε-neighbourhood, one ring deep).
+    MovableExtension = 10,
 }
 
 impl Rule {
-    const ALL: [Rule; 10] = [
+    const ALL: [Rule; 11] = [
         Rule::SeenFree,
         Rule::Moving,
         Rule::MovingContinued,
@@ -45,6 +48,7 @@ impl Rule {
         Rule::Tentative,
         Rule::MovingExpired,
         Rule::StationaryCleared,
+        Rule::MovableExtension,
     ];
 }
 

@@ -119,19 +119,24 @@ pub struct GridConfig {
     /// obstacle (Tamura's ε for the moving → movable test). Default 0.15 m: 1.5 m/s at 10 Hz.
     pub moving_step: f64,
     /// A return that rests where something was moving stays moving while other motion is seen this
-    /// close in the same frame (the person still pulling the suitcase). Default 0.3 m.
+    /// close in the same frame (the person still pulling the suitcase; the leading corner of a face
+    /// that slides along itself and so looks static in a grid). About an object's size. Default 0.5 m.
     pub rest_radius: f64,
     /// A crossing counts as "well before the return" when the ray goes on at least this far past the
     /// cell. Deletion of movable and clearing of stationary cells need it. Default 0.3 m.
     pub clear_margin: f64,
+    /// The last stretch of a beam without a return that is not counted as seen: a wall entering the
+    /// range limit next frame must not look like something appearing in free space. Default 0.15 m.
+    pub clear_tail: f64,
 }
 
 impl Default for GridConfig {
     fn default() -> Self {
         Self {
             moving_step: 0.15,
-            rest_radius: 0.3,
+            rest_radius: 0.5,
             clear_margin: 0.3,
+            clear_tail: 0.15,
         }
     }
 }

@@ -52,6 +52,7 @@ impl ObstacleGrid {
         s.hits.clear();
         s.crossed.clear();
         let margin = self.cfg.clear_margin;
+        let tail = self.cfg.clear_tail;
         let width = self.geom.width();
         let l = &mut self.layers;
         for beam in frame.beams() {
@@ -68,7 +69,21 @@ impl ObstacleGrid {
                 }
                 BeamEnd::Clear => f64::INFINITY,
             };
-            for rc in Traversal::new(&self.geom, sensor, beam.end) {
+            // The last `clear_tail` of a beam without a return is not counted as seen: at the range limit
+            // (or the farthest floor point) a return may just have dropped out, and a wall entering the
+            // range next frame must not look like something appearing in free space.
+            let end = match beam.kind {
+                BeamEnd::Hit => beam.end,
+                BeamEnd::Clear => {
+                    let d = beam.end - sensor;
+                    let len = d.norm();
+                    if len <= tail {
+                        continue;
+                    }
+                    sensor + d * ((len - tail) / len)
+                }
+            };
+            for rc in Traversal::new(&self.geom, sensor, end) {
                 let i = rc.cell.y as usize * width + rc.cell.x as usize;
                 if Some(rc.cell) == hit_cell {
                     if l.record_hit(i, f) {
@@ -118,12 +133,20 @@ impl ObstacleGrid {
             let (class, rule) = match d {
                 HitDecision::Keep => continue,
                 HitDecision::Set(c, r) => (c, r),
-                HitDecision::RestCandidate => {
+                HitDecision::RestCandidate
+                | HitDecision::MovableUnlessMotion
+                | HitDecision::ExtendUnlessMotion => {
                     let cell = ((i % w) as i32, (i / w) as i32);
-                    if movable::added(cell, &s.motion, rest_cells) {
-                        (CellClass::Movable, Rule::MovableAddition)
-                    } else {
+                    if !movable::added(cell, &s.motion, rest_cells) {
                         (CellClass::Moving, Rule::MovingContinued)
+                    } else if d == HitDecision::RestCandidate {
+                        (CellClass::Movable, Rule::MovableAddition)
+                    } else if d == HitDecision::ExtendUnlessMotion
+                        || self.layers.evidence[i] == pack_rule(Rule::MovableExtension)
+                    {
+                        (CellClass::Movable, Rule::MovableExtension)
+                    } else {
+                        (CellClass::Movable, Rule::MovableRetention)
                     }
                 }
             };
@@ -152,7 +175,7 @@ impl ObstacleGrid {
                 CellClass::Free => None,
                 CellClass::Unknown | CellClass::Moving => Some(Rule::SeenFree),
                 CellClass::Movable if !active => {
-                    movable::deleted(l, i, f).then_some(Rule::MovableDeletion)
+                    movable::deleted(l, &self.geom, i, f).then_some(Rule::MovableDeletion)
                 }
                 CellClass::Movable | CellClass::Stationary => {
                     free_space::cleared(l, &self.geom, i, f).then_some(Rule::StationaryCleared)
@@ -165,13 +188,24 @@ impl ObstacleGrid {
         }
     }
 
-    /// Last frame's moving cells that are neither returned nor seen free now: whatever moved has gone
-    /// elsewhere, unseen — Unknown, not a ghost obstacle.
+    /// Last frame's moving cells that are neither returned nor seen free now, with no return in their
+    /// 8-neighbourhood either: whatever moved has gone elsewhere, unseen — Unknown, not a ghost
+    /// obstacle. A moving cell with a return next to it (the surface jittering across a cell
+    /// boundary) stays moving for this frame and keeps feeding the continuation rule.
     fn expire_motion(&mut self, s: &mut Scratch) {
         let f = self.frame;
         for &i in &self.moving {
             let i = i as usize;
-            if self.layers.class[i] == CellClass::Moving as u8 && self.layers.hit_frame[i] != f {
+            if self.layers.class[i] != CellClass::Moving as u8 || self.layers.hit_frame[i] == f {
+                continue;
+            }
+            let mut returned_around = false;
+            let l = &self.layers;
+            self.geom
+                .for_3x3(i, |j| returned_around |= l.hit_frame[j] == f);
+            if returned_around && l.free_frame[i] != f {
+                s.new_moving.push(i as u32);
+            } else {
                 self.layers.class[i] = CellClass::Unknown as u8;
                 self.layers.evidence[i] = pack_rule(Rule::MovingExpired);
             }

@@ -24,6 +24,10 @@ pub(crate) enum HitDecision {
     /// Near last frame's motion and in place for three frames: movable, unless motion is seen near it
     /// this frame (decided once all returns of the frame are known).
     RestCandidate,
+    /// Already movable: stays movable (retention) unless motion is seen near it this frame.
+    MovableUnlessMotion,
+    /// Resting next to a movable cell: joins it (extension) unless motion is seen near it this frame.
+    ExtendUnlessMotion,
 }
 
 /// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`).
@@ -35,9 +39,12 @@ pub(crate) fn decide_hit(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> HitD
     if moving::appeared_in_free_space(l, g, i, f) {
         return HitDecision::Set(CellClass::Moving, Rule::Moving);
     }
+    if movable::retained(class) {
+        return HitDecision::MovableUnlessMotion;
+    }
     let rested = stationary::returned_around(l, g, i, f);
-    if movable::retained(l, g, i, class, rested) {
-        return HitDecision::Set(CellClass::Movable, Rule::MovableRetention);
+    if movable::extended(l, g, i, class, rested) {
+        return HitDecision::ExtendUnlessMotion;
     }
     if class != CellClass::Stationary && moving::near_previous_motion(l, i, f) {
         return if rested {
@@ -46,7 +53,7 @@ pub(crate) fn decide_hit(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> HitD
             HitDecision::Set(CellClass::Moving, Rule::MovingContinued)
         };
     }
-    if stationary::three_frames(l, g, i, f) {
+    if stationary::three_frames(l, g, i, f) && !movable::touches_movable(l, g, i) {
         HitDecision::Set(CellClass::Stationary, Rule::Stationary)
     } else if class == CellClass::Stationary {
         HitDecision::Keep
