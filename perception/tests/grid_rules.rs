@@ -82,9 +82,9 @@ fn visible_area_is_free_and_the_return_cell_is_not() {
 
 #[test]
 fn a_return_where_last_frame_saw_free_space_is_moving() {
-    // Invariant (Tamura 3.1): V_{t−1} free + return at t ⇒ Moving.
+    // Invariant (Tamura 3.1): free in V_{t−1} (and V_{t−2}) + return at t ⇒ Moving.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(5)]);
+    run(&mut g, &[clear_row(), clear_row(), hit_at(5)]);
     assert_eq!(g.class(c(5)), Some(CellClass::Moving));
     assert_eq!(evidence(&g, c(5)), Evidence::Passive(Rule::Moving));
 }
@@ -130,7 +130,7 @@ fn one_cell_of_jitter_still_makes_stationary() {
 fn something_that_moved_and_then_rests_becomes_movable() {
     // Invariant (Tamura 3.2.1): moving at t−1, in place since → Movable by addition, never Stationary.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(6)]);
+    run(&mut g, &[clear_row(), clear_row(), hit_at(6)]);
     assert_eq!(g.class(c(6)), Some(CellClass::Moving));
     // It comes one cell closer: the moving obstacle went on (continued, not a new fresh return).
     run(&mut g, &[hit_at(5)]);
@@ -163,13 +163,19 @@ fn a_resting_thing_next_to_ongoing_motion_stays_moving() {
     // The row-5 thing arrives at 6 and rests; a thing two rows up keeps moving towards the sensor.
     run(
         &mut g,
-        &[f1.clone(), two(6, 0.95), two(6, 0.85), two(6, 0.75)],
+        &[
+            f1.clone(),
+            f1.clone(),
+            two(6, 0.95),
+            two(6, 0.85),
+            two(6, 0.75),
+        ],
     );
     assert_eq!(g.class(CellIndex::new(7, 7)), Some(CellClass::Moving));
     assert_eq!(g.class(c(6)), Some(CellClass::Moving), "motion 0.22 m away");
     // Without the other motion the same history rests: movable.
     let mut g = grid();
-    run(&mut g, &[f1, hit_at(6), hit_at(6), hit_at(6)]);
+    run(&mut g, &[f1.clone(), f1, hit_at(6), hit_at(6), hit_at(6)]);
     assert_eq!(g.class(c(6)), Some(CellClass::Movable));
 }
 
@@ -177,7 +183,10 @@ fn a_resting_thing_next_to_ongoing_motion_stays_moving() {
 fn a_movable_seen_free_is_deleted() {
     // Invariant (Tamura 3.2.3): a movable cell crossed well before the return is Free again.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(6), hit_at(5), hit_at(5)]);
+    run(
+        &mut g,
+        &[clear_row(), clear_row(), hit_at(6), hit_at(5), hit_at(5)],
+    );
     assert_eq!(g.class(c(5)), Some(CellClass::Movable));
     run(&mut g, &[clear_row()]);
     assert_eq!(g.class(c(5)), Some(CellClass::Free));
@@ -188,7 +197,10 @@ fn a_movable_seen_free_is_deleted() {
 fn a_movable_out_of_view_is_kept() {
     // Invariant (Tamura 3.2.3): movable cells outside the visible area stay movable.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(6), hit_at(5), hit_at(5)]);
+    run(
+        &mut g,
+        &[clear_row(), clear_row(), hit_at(6), hit_at(5), hit_at(5)],
+    );
     run(&mut g, &[look_away(), look_away(), look_away()]);
     assert_eq!(g.class(c(5)), Some(CellClass::Movable));
 }
@@ -197,7 +209,10 @@ fn a_movable_out_of_view_is_kept() {
 fn a_movable_crossed_just_before_a_return_is_kept() {
     // Invariant: a crossing within clear_margin of the return (a grazing ray) does not delete.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(6), hit_at(5), hit_at(5)]);
+    run(
+        &mut g,
+        &[clear_row(), clear_row(), hit_at(6), hit_at(5), hit_at(5)],
+    );
     // A ray ending 0.2 m past cell 5 (return in cell 7) crosses it inside the 0.3 m margin.
     run(&mut g, &[hit_at(7)]);
     assert_eq!(g.class(c(5)), Some(CellClass::Movable));
@@ -207,11 +222,11 @@ fn a_movable_crossed_just_before_a_return_is_kept() {
 fn moving_cells_no_longer_returned_and_unseen_expire_to_unknown() {
     // Invariant: moving is not remembered out of view: Unknown (MovingExpired), or Free if seen free.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(5), look_away()]);
+    run(&mut g, &[clear_row(), clear_row(), hit_at(5), look_away()]);
     assert_eq!(g.class(c(5)), Some(CellClass::Unknown));
     assert_eq!(evidence(&g, c(5)), Evidence::Passive(Rule::MovingExpired));
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(5), clear_row()]);
+    run(&mut g, &[clear_row(), clear_row(), hit_at(5), clear_row()]);
     assert_eq!(g.class(c(5)), Some(CellClass::Free));
 }
 
@@ -362,7 +377,7 @@ fn watched_cells_turning_into_obstacles_raise_the_replan_flag_once() {
     // Invariant (Lopez-Perez 2.2): a watched cell turning Moving raises the flag; take clears it.
     let mut g = grid();
     g.set_watched_path(&[c(4), c(5)]);
-    run(&mut g, &[clear_row()]);
+    run(&mut g, &[clear_row(), clear_row()]);
     assert_eq!(g.take_replan_flag(), None, "free cells do not raise it");
     run(&mut g, &[hit_at(5)]);
     let r = g.take_replan_flag().expect("flag raised");
@@ -373,7 +388,7 @@ fn watched_cells_turning_into_obstacles_raise_the_replan_flag_once() {
     assert_eq!(g.take_replan_flag(), None);
     // Unwatched cells do not raise it.
     g.set_watched_path(&[]);
-    run(&mut g, &[clear_row(), hit_at(3)]);
+    run(&mut g, &[clear_row(), clear_row(), hit_at(3)]);
     assert_eq!(g.class(c(3)), Some(CellClass::Moving));
     assert_eq!(g.take_replan_flag(), None);
 }
@@ -422,7 +437,7 @@ fn queries_answer_by_point_path_and_raw_codes() {
 fn the_snapshot_has_one_pixel_per_cell_north_up() {
     // Invariant: pixel (x, h−1−y) has the colour of cell (x, y); the palette is per class.
     let mut g = grid();
-    run(&mut g, &[clear_row(), hit_at(5)]);
+    run(&mut g, &[clear_row(), clear_row(), hit_at(5)]);
     let img = g.to_rgba_image();
     assert_eq!(img.dimensions(), (10, 10));
     assert_eq!(img.get_pixel(5, 4).0, CellClass::Moving.colour());

@@ -136,7 +136,7 @@ impl ObstacleGrid {
         self.layers.class[i] = class as u8;
         self.layers.object[i] = id.0;
         self.layers.evidence[i] = pack_active(push_test);
-        self.layers.last_seen[i] = now;
+        self.layers.marked_at[i] = now;
         self.check_watch(i, old, class, now);
     }
 }

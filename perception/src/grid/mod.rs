@@ -107,6 +107,9 @@ pub enum GridError {
     /// The push test number does not fit the evidence field.
     #[error("push test {0} exceeds {MAX_PUSH_TEST}")]
     PushTestTooLarge(u32),
+    /// The grid has processed 2³² − 1 frames (over 13 years at 10 Hz): build a new one.
+    #[error("the grid's frame counter is exhausted")]
+    TooManyFrames,
     /// Writing the snapshot failed.
     #[error("could not write the grid snapshot: {0}")]
     Image(String),
@@ -134,7 +137,7 @@ impl Default for GridConfig {
     fn default() -> Self {
         Self {
             moving_step: 0.15,
-            rest_radius: 0.5,
+            rest_radius: 0.7,
             clear_margin: 0.3,
             clear_tail: 0.15,
         }

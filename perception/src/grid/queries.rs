@@ -40,7 +40,7 @@ impl ObstacleGrid {
         let l = &self.layers;
         let class = CellClass::from_code(l.class[i])?;
         let slot = l.object_at(i);
-        let seen = l.last_seen[i];
+        let seen = l.last_seen(i);
         Some(CellInfo {
             class,
             object: if class.is_obstacle() { slot } else { None },
@@ -52,7 +52,7 @@ impl ObstacleGrid {
     /// Seconds between the cell's last observation (or verdict) and `now`; `None` outside the grid or
     /// for a cell never observed. Negative if `now` is before the observation.
     pub fn age(&self, cell: CellIndex, now: f64) -> Option<f64> {
-        let seen = self.layers.last_seen[self.idx(cell)?];
+        let seen = self.layers.last_seen(self.idx(cell)?);
         seen.is_finite().then_some(now - seen)
     }
 

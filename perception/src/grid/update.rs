@@ -33,10 +33,11 @@ impl ObstacleGrid {
         {
             return Err(GridError::TimeWentBack { now, previous });
         }
+        self.frame = self.frame.checked_add(1).ok_or(GridError::TooManyFrames)?;
         self.last_stamp = Some(now);
-        self.frame += 1;
+        self.layers.stamps.push(now);
         let mut s = std::mem::take(&mut self.scratch);
-        self.traverse(frame, now, &mut s);
+        self.traverse(frame, &mut s);
         self.stamp_previous_motion();
         self.classify_returns(now, &mut s);
         self.classify_crossed(now, &s);
@@ -46,7 +47,7 @@ impl ObstacleGrid {
     }
 
     /// Walks every beam: crossed cells and returned cells of this frame, with their histories.
-    fn traverse(&mut self, frame: &RangeFrame, now: f64, s: &mut Scratch) {
+    fn traverse(&mut self, frame: &RangeFrame, s: &mut Scratch) {
         let f = self.frame;
         let sensor = frame.sensor();
         s.hits.clear();
@@ -89,7 +90,6 @@ impl ObstacleGrid {
                     if l.record_hit(i, f) {
                         s.hits.push(i as u32);
                     }
-                    l.last_seen[i] = now;
                     break;
                 }
                 if l.record_crossing(i, f, rc.t_exit <= t_far) {
@@ -105,9 +105,10 @@ impl ObstacleGrid {
         let r = (self.cfg.moving_step / self.geom.resolution())
             .ceil()
             .max(1.0) as usize;
-        let near = &mut self.layers.near_moving;
+        let track = &mut self.layers.track;
         for &i in &self.moving {
-            self.geom.for_square(i as usize, r, |j| near[j] = f);
+            self.geom
+                .for_square(i as usize, r, |j| track[j].near_moving = f);
         }
     }
 
@@ -151,7 +152,7 @@ impl ObstacleGrid {
                 }
             };
             if matches!(rule, Rule::Stationary | Rule::Tentative) {
-                self.layers.ts_bits[i] |= 1;
+                self.layers.mark_ts(i);
             }
             if class == CellClass::Moving {
                 s.new_moving.push(i as u32);
@@ -166,10 +167,13 @@ impl ObstacleGrid {
         for &i in &s.crossed {
             let i = i as usize;
             let l = &self.layers;
-            if l.hit_frame[i] == f {
+            if l.hit_in(i, f) {
                 continue; // a return in the cell wins over rays crossing it
             }
             let class = CellClass::from_code(l.class[i]).unwrap_or(CellClass::Unknown);
+            if class == CellClass::Free {
+                continue; // the common case: free space seen free again
+            }
             let active = is_active(l.evidence[i]);
             let to_free = match class {
                 CellClass::Free => None,
@@ -181,7 +185,6 @@ impl ObstacleGrid {
                     free_space::cleared(l, &self.geom, i, f).then_some(Rule::StationaryCleared)
                 }
             };
-            self.layers.last_seen[i] = now;
             if let Some(rule) = to_free {
                 self.write_passive(i, CellClass::Free, rule, now);
             }
@@ -196,14 +199,13 @@ impl ObstacleGrid {
         let f = self.frame;
         for &i in &self.moving {
             let i = i as usize;
-            if self.layers.class[i] != CellClass::Moving as u8 || self.layers.hit_frame[i] == f {
+            if self.layers.class[i] != CellClass::Moving as u8 || self.layers.hit_in(i, f) {
                 continue;
             }
             let mut returned_around = false;
             let l = &self.layers;
-            self.geom
-                .for_3x3(i, |j| returned_around |= l.hit_frame[j] == f);
-            if returned_around && l.free_frame[i] != f {
+            self.geom.for_3x3(i, |j| returned_around |= l.hit_in(j, f));
+            if returned_around && !l.crossed_in(i, f) {
                 s.new_moving.push(i as u32);
             } else {
                 self.layers.class[i] = CellClass::Unknown as u8;

@@ -12,12 +12,13 @@ pub(crate) fn three_frames(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bo
     seen & 0b110 == 0b110
 }
 
-/// Chen's three consecutive maps on raw returns: some return in the 3 × 3 block at t−1 and at t−2.
-/// Used as the "in place for three frames" test of the movable rules.
+/// "In place" test of the movable rules, after Chen's three maps on raw returns: some return in the
+/// 3 × 3 block in at least two of the frames t−1, t−2, t−3. (Two of three rather than both of t−1 and
+/// t−2, so that a surface returned only every other frame — seen edge-on — still counts as in place.)
 pub(crate) fn returned_around(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
     let mut seen = 0u8;
     g.for_3x3(i, |j| seen |= l.hits(j, f));
-    seen & 0b110 == 0b110
+    (seen & 0b1110).count_ones() >= 2
 }
 
 #[cfg(test)]
@@ -33,7 +34,7 @@ mod tests {
 
     fn ts_hit(l: &mut Layers, i: usize, f: u32) {
         l.record_hit(i, f);
-        l.ts_bits[i] |= 1;
+        l.mark_ts(i);
     }
 
     #[test]
