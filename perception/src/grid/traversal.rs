@@ -41,7 +41,7 @@ pub struct Traversal {
     remaining: u64,
 }
 
-/// Relative tolerance under which two boundary crossings count as one corner crossing.
+/// Tolerance (in segment parameter, 0..1) under which two boundary crossings count as one corner.
 const CORNER_EPS: f64 = 1e-12;
 
 impl Traversal {
@@ -142,11 +142,11 @@ fn clip(ax: f64, ay: f64, dx: f64, dy: f64, w: f64, h: f64) -> Option<(f64, f64)
 impl Iterator for Traversal {
     type Item = RayCell;
 
+    #[inline]
     fn next(&mut self) -> Option<RayCell> {
         if self.remaining == 0 {
             return None;
         }
-        self.remaining -= 1;
         let cell = CellIndex::new(self.x as u32, self.y as u32);
         if self.x == self.end_x && self.y == self.end_y {
             self.remaining = 0;
@@ -155,30 +155,23 @@ impl Iterator for Traversal {
                 t_exit: self.t_end.max(0.0),
             });
         }
-        let t_exit = self.t_max_x.min(self.t_max_y).min(self.t_end);
+        self.remaining -= 1;
         let (a, b) = (self.t_max_x, self.t_max_y);
-        let (step_x, step_y) = if a.is_finite() && b.is_finite() {
-            let tol = CORNER_EPS * a.abs().max(b.abs()).max(1.0);
-            (a <= b + tol, b <= a + tol)
-        } else {
-            (a <= b, b < a)
-        };
-        if step_x {
+        let t_exit = a.min(b).min(self.t_end);
+        // Segment parameters live in [0, 1], so an absolute tolerance decides corner crossings.
+        if a < b - CORNER_EPS {
             self.x += self.step_x;
             self.t_max_x += self.t_delta_x;
-        }
-        if step_y {
+        } else if b < a - CORNER_EPS {
             self.y += self.step_y;
             self.t_max_y += self.t_delta_y;
-        }
-        // A diagonal step covers two boundaries at once.
-        if step_x && step_y {
+        } else {
+            // Through a corner: one diagonal step covers two boundaries.
+            self.x += self.step_x;
+            self.t_max_x += self.t_delta_x;
+            self.y += self.step_y;
+            self.t_max_y += self.t_delta_y;
             self.remaining = self.remaining.saturating_sub(1);
-        }
-        // Overshooting the end cell (floating point at a corner) ends the walk instead of running on.
-        let past = |c: i64, e: i64, s: i64| s != 0 && (c - e) * s > 0;
-        if past(self.x, self.end_x, self.step_x) || past(self.y, self.end_y, self.step_y) {
-            self.remaining = 0;
         }
         Some(RayCell { cell, t_exit })
     }

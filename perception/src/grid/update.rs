@@ -87,13 +87,17 @@ impl ObstacleGrid {
             for rc in Traversal::new(&self.geom, sensor, end) {
                 let i = rc.cell.y as usize * width + rc.cell.x as usize;
                 if Some(rc.cell) == hit_cell {
-                    if l.record_hit(i, f) {
-                        s.hits.push(i as u32);
-                    }
                     break;
                 }
                 if l.record_crossing(i, f, rc.t_exit <= t_far) {
                     s.crossed.push(i as u32);
+                }
+            }
+            // The return's cell, even if floating point made the walk end a cell short of it.
+            if let Some(c) = hit_cell {
+                let i = c.y as usize * width + c.x as usize;
+                if l.record_hit(i, f) {
+                    s.hits.push(i as u32);
                 }
             }
         }
