@@ -8,25 +8,41 @@
 //!
 //! # Passive rules (one file each under `rules/`)
 //! Per frame, every beam is traversed from the sensor (Amanatides–Woo, `traversal.rs`); crossed cells
-//! are the visible area V_t, end cells hold returns (Tamura 3.1). A return is classified by the first
-//! rule that fires (Tamura's Fig. 5 flowchart, extended):
-//! 1. **Moving** (Tamura 3.1): the cell was free in V_{t−1} and nothing was returned within its
-//!    8-neighbourhood at t−1 (Chen 2.4's neighbourhood, here against grazing rays along walls).
-//! 2. **Movable retention** (Tamura 3.2.2): the cell is movable, or it has rested for three frames
-//!    next to a movable cell.
-//! 3. **Moving continued / movable addition** (Tamura 3.2.1): near a cell that was moving at t−1, a
-//!    return that has not been in place for three frames is the moving obstacle gone on (moving); one
-//!    that has is at rest, and is *movable* unless other motion is seen within `rest_radius` this frame.
-//! 4. **Stationary** (Tamura 3.3 with Chen 2.4): a temporarily stationary return (none of the above)
-//!    with temporarily stationary returns in its 8-neighbourhood at t−1 and at t−2. Otherwise it stays
-//!    *tentative* (class Unknown) or keeps a stationary class it already has.
+//! are the visible area V_t, end cells hold returns (Tamura 3.1). The last `clear_tail` of a beam
+//! without a return is not counted (a wall entering the range limit must not look like something
+//! appearing in free space). A return is classified by the first rule that fires (Tamura's Fig. 5
+//! flowchart, extended; "motion nearby" = a return classified moving this frame within `rest_radius`):
+//! 1. **Moving** (Tamura 3.1, `rules/moving.rs`): the cell was free in V_{t−1} and V_{t−2}, and nothing
+//!    was returned in its 8-neighbourhood at t−1 or t−2 (Chen 2.4's neighbourhood, here against rays
+//!    grazing a surface: they cross its cells just before their return).
+//! 2. **Movable retention** (Tamura 3.2.2, `rules/movable.rs`): a movable cell stays movable — unless
+//!    motion is nearby (the movable obstacle is being moved: moving).
+//! 3. **Movable extension** (Tamura 3.2.2's ε-neighbourhood): a return in place (returned around in
+//!    two of the last three frames) within 3 cells of a cell found by addition or retention joins it,
+//!    unless motion is nearby. One ring only: an extension cell does not extend further, so the label
+//!    cannot creep along a wall the object touches.
+//! 4. **Moving continued / movable addition** (Tamura 3.2.1): within `moving_step` of a cell that was
+//!    moving at t−1, a return not yet in place is the moving obstacle gone on (moving); one in place
+//!    rests and is *movable* — unless motion is nearby (the person still pulling the suitcase; the
+//!    leading corner of a face that slides along itself and so looks static in a grid).
+//! 5. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
+//!    return (none of the above) with temporarily stationary returns in its 8-neighbourhood at t−1 and
+//!    at t−2, and no movable cell within 3 cells (a movable object's fringe never becomes a wall).
+//!    Otherwise it stays *tentative* (class Unknown, evidence `Tentative`) or keeps its Stationary class.
 //!
-//! Crossed cells: unknown or moving cells become free; a movable cell crossed well before the ray's
-//! return is deleted (Tamura 3.2.3); a stationary cell is cleared only when crossed well before the
-//! return in two consecutive frames with no return around it (grazing rays along a wall cross wall cells
-//! just before their return; this keeps walls from flickering to free). A moving cell neither returned
-//! nor crossed expires to Unknown. Cells out of view keep their class (Tamura 3.2.3); [`ObstacleGrid::age`]
-//! says how old their evidence is.
+//! Crossed cells without a return this frame (a return in a cell wins over rays crossing it): unknown
+//! and moving cells become free; a movable cell crossed at least `clear_margin` before the ray's return,
+//! with no return around it, is deleted (Tamura 3.2.3); a stationary cell is cleared only when crossed
+//! that far in two consecutive frames with nothing returned around it (`rules/free_space.rs`). A moving
+//! cell neither returned nor crossed, with no return around it, expires to Unknown (moving things are
+//! not remembered out of view). All other cells out of view keep their class (Tamura 3.2.3);
+//! [`ObstacleGrid::age`] says how old their evidence is.
+//!
+//! Known limits: a surface that slides along itself (a box carried past the robot broadside, a person
+//! at the closest point of passing) returns the same cells frame after frame and can read as resting
+//! (movable) when no other motion is within `rest_radius`; a person walking slower than about one cell
+//! per frame reads as resting too (Tamura's ε has the same trade-off); the first frame of anything
+//! entering the field of view is tentative (nothing was seen free there before).
 //!
 //! # Active evidence and precedence
 //! A push test outranks any passive rule: cells marked by [`ObstacleGrid::mark_object`] keep their
@@ -41,8 +57,11 @@
 //! (the transition table itself is `rules::fsm`).
 //!
 //! # Speed
-//! Storage is structure-of-arrays; histories are frame-stamped bit bytes so nothing is swept per
-//! frame: an update costs O(cells crossed + returns × neighbourhood).
+//! Classes, objects and evidence are structure-of-arrays (the class codes are the raw recording
+//! slice); the rules' per-frame bookkeeping is one 16-byte record per cell so a ray step touches one
+//! cache line. Histories are frame-stamped bit bytes and a cell's last observation is its latest frame
+//! number (looked up in a per-frame stamp table), so nothing is cleared or swept per frame: an update
+//! costs O(cells crossed + returns × neighbourhood).
 
 mod active;
 mod class;
