@@ -8,6 +8,8 @@ use super::rules::{self, HitDecision, free_space, movable};
 use super::traversal::Traversal;
 use super::{GridError, ObstacleGrid};
 
+const FREE: u8 = CellClass::Free as u8;
+
 /// Per-frame lists, kept between frames to reuse their allocations (never swept).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Scratch {
@@ -89,7 +91,8 @@ impl ObstacleGrid {
                 if Some(rc.cell) == hit_cell {
                     break;
                 }
-                if l.record_crossing(i, f, rc.t_exit <= t_far) {
+                // Free cells seen free again need no classification: only list the others.
+                if l.record_crossing(i, f, rc.t_exit <= t_far) && l.class[i] != FREE {
                     s.crossed.push(i as u32);
                 }
             }
@@ -165,7 +168,8 @@ impl ObstacleGrid {
         }
     }
 
-    /// Crossed cells that hold no return this frame: the visible area's consequences.
+    /// Crossed cells (listed unless already free) that hold no return this frame: the visible area's
+    /// consequences.
     fn classify_crossed(&mut self, now: f64, s: &Scratch) {
         let f = self.frame;
         for &i in &s.crossed {
