@@ -9,8 +9,8 @@ use crate::prism::ObjectId;
 /// Object slot value for "no object".
 pub(crate) const NO_OBJECT: u32 = u32::MAX;
 
-/// Per-frame bookkeeping of one cell, packed so that a ray step touches one cache line: the rules'
-/// histories and stamps. (The classes, objects and evidence stay structure-of-arrays.)
+/// Per-frame bookkeeping of one cell, packed (12 bytes) so that a ray step touches one cache line: the
+/// rules' histories and stamps. (The classes, objects and evidence stay structure-of-arrays.)
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 pub(crate) struct Track {
@@ -18,8 +18,6 @@ pub(crate) struct Track {
     pub hit_frame: u32,
     /// Stamp of `free_bits`/`far_bits`.
     pub free_frame: u32,
-    /// Frame stamp: the cell lies near a cell that was moving in the previous frame.
-    pub near_moving: u32,
     /// Frames with a return in the cell.
     pub hit_bits: u8,
     /// Frames in which the return in the cell was classified temporarily stationary (Tamura 3.3).
@@ -43,6 +41,8 @@ pub(crate) struct Layers {
     pub marked_at: Vec<f64>,
     /// The rules' per-frame bookkeeping.
     pub track: Vec<Track>,
+    /// Frame stamp: the cell lies near a cell that was moving in the previous frame.
+    pub near_moving: Vec<u32>,
     /// Watch generation stamp: the cell is on the executive's current path.
     pub watch: Vec<u32>,
     /// Robot-clock stamp of every frame, by frame number (entry 0: "never", NaN). 8 bytes per frame:
@@ -59,6 +59,7 @@ impl Layers {
             evidence: vec![0; n],
             marked_at: vec![f64::NAN; n],
             track: vec![Track::default(); n],
+            near_moving: vec![0; n],
             watch: vec![0; n],
             stamps: vec![f64::NAN],
         }

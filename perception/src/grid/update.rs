@@ -112,10 +112,9 @@ impl ObstacleGrid {
         let r = (self.cfg.moving_step / self.geom.resolution())
             .ceil()
             .max(1.0) as usize;
-        let track = &mut self.layers.track;
+        let near = &mut self.layers.near_moving;
         for &i in &self.moving {
-            self.geom
-                .for_square(i as usize, r, |j| track[j].near_moving = f);
+            self.geom.for_square(i as usize, r, |j| near[j] = f);
         }
     }
 

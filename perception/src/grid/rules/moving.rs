@@ -30,7 +30,7 @@ const RECENT: u8 = 0b110;
 /// The cell lies within `moving_step` of a cell that was moving at t−1 (stamped at the start of the
 /// frame from the previous frame's moving cells).
 pub(crate) fn near_previous_motion(l: &Layers, i: usize, f: u32) -> bool {
-    l.track[i].near_moving == f
+    l.near_moving[i] == f
 }
 
 #[cfg(test)]
