@@ -9,7 +9,7 @@
 //! 2D laser scan ([`RangeFrame::from_laser_scan`]), and from an organised 3D colour cloud
 //! ([`RangeFrame::from_cloud`]), which keeps per image column only the nearest obstacle return.
 
-use nalgebra::{Point2, Point3, Vector2};
+use nalgebra::{Point2, Vector2};
 
 use super::GridError;
 use crate::cloud::{CloudFrame, ColourCloud};
@@ -193,9 +193,17 @@ impl RangeFrame {
         let t = pose.translation.vector;
         let sensor = Point2::new(t.x, t.y);
         let mut frame = Self::with_capacity(sensor, cloud.width())?;
-        let to_map = match cloud.frame() {
-            CloudFrame::Sensor => pose.cast::<f32>(),
-            CloudFrame::Map => nalgebra::Isometry3::identity(),
+        // A rotation matrix (9 multiply-adds per point) rather than the quaternion: this loop runs
+        // over every pixel.
+        let (rot, shift) = match cloud.frame() {
+            CloudFrame::Sensor => {
+                let p = pose.cast::<f32>();
+                (
+                    p.rotation.to_rotation_matrix().into_inner(),
+                    p.translation.vector,
+                )
+            }
+            CloudFrame::Map => (nalgebra::Matrix3::identity(), nalgebra::Vector3::zeros()),
         };
         let (sx, sy) = (t.x as f32, t.y as f32);
         let (floor, top) = (cfg.floor_band as f32, cfg.max_height as f32);
@@ -208,7 +216,7 @@ impl RangeFrame {
             let mut farthest_floor: Option<(f32, f32, f32)> = None;
             for v in 0..h {
                 let i = v * w + u;
-                let p = to_map * Point3::new(xs[i], ys[i], zs[i]);
+                let p = rot * nalgebra::Vector3::new(xs[i], ys[i], zs[i]) + shift;
                 if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
                     continue;
                 }
