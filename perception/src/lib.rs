@@ -13,6 +13,7 @@ pub mod cloud;
 pub mod elevation;
 pub mod error;
 pub mod floor;
+pub mod grid;
 pub mod icp;
 pub mod lookaround;
 pub mod pipeline;

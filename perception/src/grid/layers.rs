@@ -1,0 +1,193 @@
+//! The grid's per-cell storage, structure-of-arrays, and the frame-stamped histories the rules read.
+//!
+//! Nothing here is cleared per frame. Each history is a byte of bits (bit k = "happened at frame
+//! `stamp − k`") plus the frame stamp of its latest bit; reading it at frame `f` shifts it by
+//! `f − stamp`. So a frame touches only the cells its rays cross and the rules' neighbourhoods.
+
+use crate::prism::ObjectId;
+
+/// Object slot value for "no object".
+pub(crate) const NO_OBJECT: u32 = u32::MAX;
+
+/// Per-frame bookkeeping of one cell, packed (12 bytes) so that a ray step touches one cache line: the
+/// rules' histories and stamps. (The classes, objects and evidence stay structure-of-arrays.)
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
+pub(crate) struct Track {
+    /// Stamp of `hit_bits`/`ts_bits`.
+    pub hit_frame: u32,
+    /// Stamp of `free_bits`/`far_bits`.
+    pub free_frame: u32,
+    /// Frames with a return in the cell.
+    pub hit_bits: u8,
+    /// Frames in which the return in the cell was classified temporarily stationary (Tamura 3.3).
+    pub ts_bits: u8,
+    /// Frames in which a ray crossed the cell (without ending in it).
+    pub free_bits: u8,
+    /// Frames in which a ray crossed the cell at least the clear margin before its return.
+    pub far_bits: u8,
+}
+
+/// Per-cell arrays, all of the grid's length, row-major.
+#[derive(Clone, Debug)]
+pub(crate) struct Layers {
+    /// Class code ([`super::CellClass`]).
+    pub class: Vec<u8>,
+    /// Object id (`NO_OBJECT` for none).
+    pub object: Vec<u32>,
+    /// Packed evidence (see `evidence.rs`).
+    pub evidence: Vec<u32>,
+    /// Robot-clock stamp of the latest active verdict on the cell (NaN: none).
+    pub marked_at: Vec<f64>,
+    /// The rules' per-frame bookkeeping.
+    pub track: Vec<Track>,
+    /// Frame stamp: the cell lies near a cell that was moving in the previous frame.
+    pub near_moving: Vec<u32>,
+    /// Watch generation stamp: the cell is on the executive's current path.
+    pub watch: Vec<u32>,
+    /// Robot-clock stamp of every frame, by frame number (entry 0: "never", NaN). 8 bytes per frame:
+    /// a cell's last observation is its latest hit or crossing frame, looked up here, so a ray step
+    /// writes no timestamp.
+    pub stamps: Vec<f64>,
+}
+
+impl Layers {
+    pub fn new(n: usize) -> Self {
+        Self {
+            class: vec![0; n],
+            object: vec![NO_OBJECT; n],
+            evidence: vec![0; n],
+            marked_at: vec![f64::NAN; n],
+            track: vec![Track::default(); n],
+            near_moving: vec![0; n],
+            watch: vec![0; n],
+            stamps: vec![f64::NAN],
+        }
+    }
+
+    /// The object in slot `i`.
+    #[inline]
+    pub fn object_at(&self, i: usize) -> Option<ObjectId> {
+        let o = self.object[i];
+        (o != NO_OBJECT).then_some(ObjectId(o))
+    }
+
+    /// Robot-clock stamp of the cell's latest observation or verdict (NaN: never).
+    pub fn last_seen(&self, i: usize) -> f64 {
+        let t = &self.track[i];
+        let frame = t.hit_frame.max(t.free_frame) as usize;
+        let seen = self.stamps.get(frame).copied().unwrap_or(f64::NAN);
+        let marked = self.marked_at[i];
+        if seen.is_nan() || marked > seen {
+            marked
+        } else {
+            seen
+        }
+    }
+
+    /// Returns at `i` as seen from frame `f` (bit k = a return at frame f − k).
+    #[inline]
+    pub fn hits(&self, i: usize, f: u32) -> u8 {
+        let t = &self.track[i];
+        at(t.hit_bits, t.hit_frame, f)
+    }
+
+    /// Temporarily stationary returns at `i` as seen from frame `f`.
+    #[inline]
+    pub fn ts(&self, i: usize, f: u32) -> u8 {
+        let t = &self.track[i];
+        at(t.ts_bits, t.hit_frame, f)
+    }
+
+    /// Frames in which a ray crossed `i` (without ending there) as seen from frame `f`.
+    #[inline]
+    pub fn crossed(&self, i: usize, f: u32) -> u8 {
+        let t = &self.track[i];
+        at(t.free_bits, t.free_frame, f)
+    }
+
+    /// Frames in which a ray crossed `i` well before its return, as seen from frame `f`.
+    #[inline]
+    pub fn crossed_far(&self, i: usize, f: u32) -> u8 {
+        let t = &self.track[i];
+        at(t.far_bits, t.free_frame, f)
+    }
+
+    /// True when `i` holds a return in frame `f`.
+    #[inline]
+    pub fn hit_in(&self, i: usize, f: u32) -> bool {
+        self.track[i].hit_frame == f
+    }
+
+    /// True when a ray crossed `i` in frame `f`.
+    #[inline]
+    pub fn crossed_in(&self, i: usize, f: u32) -> bool {
+        self.track[i].free_frame == f
+    }
+
+    /// Marks this frame's return at `i` as temporarily stationary.
+    #[inline]
+    pub fn mark_ts(&mut self, i: usize) {
+        self.track[i].ts_bits |= 1;
+    }
+
+    /// Records a return at `i` in frame `f`; true the first time in this frame.
+    #[inline]
+    pub fn record_hit(&mut self, i: usize, f: u32) -> bool {
+        let t = &mut self.track[i];
+        let last = t.hit_frame;
+        if last == f {
+            return false;
+        }
+        t.hit_bits = at(t.hit_bits, last, f) | 1;
+        t.ts_bits = at(t.ts_bits, last, f);
+        t.hit_frame = f;
+        true
+    }
+
+    /// Records a ray crossing `i` in frame `f` (`far`: well before its return); true the first time.
+    #[inline]
+    pub fn record_crossing(&mut self, i: usize, f: u32, far: bool) -> bool {
+        let t = &mut self.track[i];
+        let last = t.free_frame;
+        if last == f {
+            t.far_bits |= far as u8;
+            return false;
+        }
+        t.free_bits = at(t.free_bits, last, f) | 1;
+        t.far_bits = at(t.far_bits, last, f) | far as u8;
+        t.free_frame = f;
+        true
+    }
+}
+
+/// History byte `bits` stamped at frame `last`, read at frame `f`.
+#[inline]
+pub(crate) fn at(bits: u8, last: u32, f: u32) -> u8 {
+    match f.checked_sub(last) {
+        Some(d) if last != 0 && d < 8 => bits << d,
+        _ => 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn histories_shift_with_the_frame_counter_and_expire() {
+        // Invariant: bit k read at frame f means "recorded at frame f − k", for k < 8, never later.
+        let mut l = Layers::new(1);
+        assert!(l.record_hit(0, 3));
+        assert!(!l.record_hit(0, 3));
+        assert!(l.record_hit(0, 5));
+        assert_eq!(l.hits(0, 5), 0b101);
+        assert_eq!(l.hits(0, 6), 0b1010);
+        assert_eq!(l.hits(0, 12), 0b1000_0000);
+        assert_eq!(l.hits(0, 13), 0);
+        assert_eq!(l.hits(0, 4), 0, "a stamp from the future reads as nothing");
+        l.record_crossing(0, 2, false);
+        l.record_crossing(0, 2, true);
+        assert_eq!((l.crossed(0, 3), l.crossed_far(0, 3)), (0b10, 0b10));
+    }
+}

@@ -1,0 +1,247 @@
+//! The obstacle-type grid: what every part of nudge knows about each patch of floor.
+//!
+//! A 2D grid (default 50 mm cells) over the room. Each cell holds a [`CellClass`] (Unknown, Free,
+//! Stationary, Movable, Moving), the [`ObjectId`] it belongs to if the executive said so, when it was
+//! last observed (robot clock), and the [`Evidence`] behind its class. Perception writes it from range
+//! frames ([`ObstacleGrid::update`]), motion reads it, and the executive writes push-test verdicts into
+//! it ([`ObstacleGrid::mark_object`], [`ObstacleGrid::object_moved`]).
+//!
+//! # Passive rules (one file each under `rules/`)
+//! Per frame, every beam is traversed from the sensor (Amanatides–Woo, `traversal.rs`); crossed cells
+//! are the visible area V_t, end cells hold returns (Tamura 3.1). The last `clear_tail` of a beam
+//! without a return is not counted (a wall entering the range limit must not look like something
+//! appearing in free space). A return is classified by the first rule that fires (Tamura's Fig. 5
+//! flowchart, extended; "motion nearby" = a return classified moving this frame within `rest_radius`):
+//! 1. **Moving** (Tamura 3.1, `rules/moving.rs`): the cell was free in V_{t−1} and V_{t−2}, and nothing
+//!    was returned in its 8-neighbourhood at t−1 or t−2 (Chen 2.4's neighbourhood, here against rays
+//!    grazing a surface: they cross its cells just before their return).
+//! 2. **Movable retention** (Tamura 3.2.2, `rules/movable.rs`): a movable cell stays movable — unless
+//!    motion is nearby (the movable obstacle is being moved: moving).
+//! 3. **Movable extension** (Tamura 3.2.2's ε-neighbourhood): a return in place (returned around in
+//!    two of the last three frames) within 3 cells of a cell found by addition or retention joins it,
+//!    unless motion is nearby. One ring only: an extension cell does not extend further, so the label
+//!    cannot creep along a wall the object touches.
+//! 4. **Moving continued / movable addition** (Tamura 3.2.1): within `moving_step` of a cell that was
+//!    moving at t−1, a return not yet in place is the moving obstacle gone on (moving); one in place
+//!    rests and is *movable* — unless motion is nearby (the person still pulling the suitcase; the
+//!    leading corner of a face that slides along itself and so looks static in a grid).
+//! 5. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
+//!    return (none of the above) with temporarily stationary returns in its 8-neighbourhood at t−1 and
+//!    at t−2, and no movable cell within 3 cells (a movable object's fringe never becomes a wall).
+//!    Otherwise it stays *tentative* (class Unknown, evidence `Tentative`) or keeps its Stationary class.
+//!
+//! Crossed cells without a return this frame (a return in a cell wins over rays crossing it): unknown
+//! and moving cells become free; a movable cell crossed at least `clear_margin` before the ray's return,
+//! with no return around it, is deleted (Tamura 3.2.3); a stationary cell is cleared only when crossed
+//! that far in two consecutive frames with nothing returned around it (`rules/free_space.rs`). A moving
+//! cell neither returned nor crossed, with no return around it, expires to Unknown (moving things are
+//! not remembered out of view). All other cells out of view keep their class (Tamura 3.2.3);
+//! [`ObstacleGrid::age`] says how old their evidence is.
+//!
+//! Known limits: a surface that slides along itself (a box carried past the robot broadside, a person
+//! at the closest point of passing) returns the same cells frame after frame and can read as resting
+//! (movable) when no other motion is within `rest_radius`; a person walking slower than about one cell
+//! per frame reads as resting too (Tamura's ε has the same trade-off); the first frame of anything
+//! entering the field of view is tentative (nothing was seen free there before).
+//!
+//! # Active evidence and precedence
+//! A push test outranks any passive rule: cells marked by [`ObstacleGrid::mark_object`] keep their
+//! class and object whatever returns land on them; only being crossed well before the return in two
+//! consecutive frames with no return around them (the object is provably gone) hands them back to the
+//! passive rules. [`ObstacleGrid::object_moved`] clears the old footprint to Free (even where no
+//! background has been seen behind it: the push is the evidence) and writes the new footprint Movable.
+//!
+//! # Replanning (Lopez-Perez 2.2)
+//! The executive names its path's cells with [`ObstacleGrid::set_watched_path`]; a watched cell that
+//! turns Stationary or Moving (or Movable) raises a flag read and cleared by [`ObstacleGrid::take_replan_flag`]
+//! (the transition table itself is `rules::fsm`).
+//!
+//! # Speed
+//! Classes, objects and evidence are structure-of-arrays (the class codes are the raw recording
+//! slice); the rules' per-frame bookkeeping is one 16-byte record per cell so a ray step touches one
+//! cache line. Histories are frame-stamped bit bytes and a cell's last observation is its latest frame
+//! number (looked up in a per-frame stamp table), so nothing is cleared or swept per frame: an update
+//! costs O(cells crossed + returns × neighbourhood).
+
+mod active;
+mod class;
+mod evidence;
+mod frame;
+mod geometry;
+mod image;
+mod layers;
+mod queries;
+mod raster;
+pub mod rules;
+mod traversal;
+mod update;
+mod watch;
+
+use std::collections::HashMap;
+
+pub use active::{Footprint, Verdict};
+pub use class::CellClass;
+pub use evidence::{Evidence, MAX_PUSH_TEST, Rule};
+pub use frame::{Beam, BeamEnd, ColumnReduction, LaserScan, RangeFrame};
+pub use geometry::{CellIndex, DEFAULT_RESOLUTION, GridGeometry, MAX_CELLS};
+pub use queries::CellInfo;
+pub use traversal::{RayCell, Traversal};
+pub use watch::ReplanReason;
+
+use crate::prism::ObjectId;
+use layers::Layers;
+
+/// Why a grid operation was refused.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum GridError {
+    /// The cell size is not a positive finite number.
+    #[error("grid resolution must be positive and finite, got {0}")]
+    BadResolution(f64),
+    /// The extent or origin is not positive and finite.
+    #[error("grid extent must be positive and finite")]
+    BadExtent,
+    /// The grid would exceed [`MAX_CELLS`].
+    #[error("grid would have more than {MAX_CELLS} cells")]
+    TooLarge,
+    /// A position, time or scan parameter is not finite.
+    #[error("non-finite position, time or scan parameter")]
+    NonFinite,
+    /// Time went backwards: updates must come in robot-clock order.
+    #[error("frame stamp {now} is earlier than the previous frame's {previous}")]
+    TimeWentBack {
+        /// The refused stamp.
+        now: f64,
+        /// The previous frame's stamp.
+        previous: f64,
+    },
+    /// The cloud is not organised (the column reduction needs image columns).
+    #[error("the cloud is not organised (width × height)")]
+    NotOrganised,
+    /// The object has never been marked.
+    #[error("object {0} has never been marked in the grid")]
+    UnknownObject(ObjectId),
+    /// `ObjectId(u32::MAX)` is reserved for "no object".
+    #[error("object id {0} is reserved")]
+    ReservedObjectId(ObjectId),
+    /// The push test number does not fit the evidence field.
+    #[error("push test {0} exceeds {MAX_PUSH_TEST}")]
+    PushTestTooLarge(u32),
+    /// The grid has processed 2³² − 1 frames (over 13 years at 10 Hz): build a new one.
+    #[error("the grid's frame counter is exhausted")]
+    TooManyFrames,
+    /// Writing the snapshot failed.
+    #[error("could not write the grid snapshot: {0}")]
+    Image(String),
+}
+
+/// Tuning of the passive rules. Distances in metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridConfig {
+    /// How far a moving obstacle's returns may move between two frames and still be the same moving
+    /// obstacle (Tamura's ε for the moving → movable test). Default 0.15 m: 1.5 m/s at 10 Hz.
+    pub moving_step: f64,
+    /// A return that rests where something was moving stays moving while other motion is seen this
+    /// close in the same frame (the person still pulling the suitcase; the leading corner of a face
+    /// that slides along itself and so looks static in a grid). About an object's size. Default 0.5 m.
+    pub rest_radius: f64,
+    /// A crossing counts as "well before the return" when the ray goes on at least this far past the
+    /// cell. Deletion of movable and clearing of stationary cells need it. Default 0.3 m.
+    pub clear_margin: f64,
+    /// The last stretch of a beam without a return that is not counted as seen: a wall entering the
+    /// range limit next frame must not look like something appearing in free space. Default 0.15 m.
+    pub clear_tail: f64,
+}
+
+impl Default for GridConfig {
+    fn default() -> Self {
+        Self {
+            moving_step: 0.15,
+            rest_radius: 0.7,
+            clear_margin: 0.3,
+            clear_tail: 0.15,
+        }
+    }
+}
+
+/// What the executive recorded about an object it pushed.
+#[derive(Clone, Debug)]
+pub(crate) struct ObjectRecord {
+    pub verdict: Verdict,
+    pub push_test: u32,
+    /// Linear indices marked for this object (a superset of its current cells).
+    pub cells: Vec<u32>,
+}
+
+/// The obstacle-type grid.
+#[derive(Clone, Debug)]
+pub struct ObstacleGrid {
+    geom: GridGeometry,
+    cfg: GridConfig,
+    layers: Layers,
+    /// Frames processed so far (frame numbers start at 1; 0 means never).
+    frame: u32,
+    /// Stamp of the latest frame.
+    last_stamp: Option<f64>,
+    /// Cells that were classified moving by the latest frame.
+    moving: Vec<u32>,
+    objects: HashMap<ObjectId, ObjectRecord>,
+    watch_gen: u32,
+    replan: Option<ReplanReason>,
+    scratch: update::Scratch,
+}
+
+impl ObstacleGrid {
+    /// An all-Unknown grid with the given geometry and rule tuning.
+    pub fn new(geom: GridGeometry, cfg: GridConfig) -> Self {
+        Self {
+            layers: Layers::new(geom.len()),
+            geom,
+            cfg,
+            frame: 0,
+            last_stamp: None,
+            moving: Vec::new(),
+            objects: HashMap::new(),
+            watch_gen: 0,
+            replan: None,
+            scratch: update::Scratch::default(),
+        }
+    }
+
+    /// An all-Unknown grid with default rules, lower-left corner `origin`, covering `extent` (m) with
+    /// `resolution` cells.
+    pub fn from_extent(
+        origin: nalgebra::Point2<f64>,
+        extent: [f64; 2],
+        resolution: f64,
+    ) -> Result<Self, GridError> {
+        Ok(Self::new(
+            GridGeometry::new(origin, extent, resolution)?,
+            GridConfig::default(),
+        ))
+    }
+
+    /// The grid's placement and size.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geom
+    }
+
+    /// The rule tuning.
+    pub fn config(&self) -> &GridConfig {
+        &self.cfg
+    }
+
+    /// Number of frames processed.
+    pub fn frames(&self) -> u32 {
+        self.frame
+    }
+
+    /// Row-major class codes ([`CellClass::code`]), one byte per cell: raw access for recording.
+    pub fn class_codes(&self) -> &[u8] {
+        &self.layers.class
+    }
+
+    /// Linear index of an in-grid cell.
+    fn idx(&self, cell: CellIndex) -> Option<usize> {
+        self.geom.index(cell)
+    }
+}

@@ -1,0 +1,63 @@
+//! The passive classification rules, one file each, and the flowchart that orders them.
+//!
+//! Every rule is a pure predicate over the grid's stored layers at frame `f` (the frame being
+//! processed: its returns are recorded, its classes not yet written), so each can be tested alone.
+
+pub(crate) mod free_space;
+pub mod fsm;
+pub(crate) mod movable;
+pub(crate) mod moving;
+pub(crate) mod stationary;
+
+use super::class::CellClass;
+use super::evidence::Rule;
+use super::geometry::GridGeometry;
+use super::layers::Layers;
+
+/// What the flowchart decides for one return, before the rest test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum HitDecision {
+    /// Active evidence holds: no change.
+    Keep,
+    /// Set this class with this rule.
+    Set(CellClass, Rule),
+    /// Near last frame's motion and in place for three frames: movable, unless motion is seen near it
+    /// this frame (decided once all returns of the frame are known).
+    RestCandidate,
+    /// Already movable: stays movable (retention) unless motion is seen near it this frame.
+    MovableUnlessMotion,
+    /// Resting next to a movable cell: joins it (extension) unless motion is seen near it this frame.
+    ExtendUnlessMotion,
+}
+
+/// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`).
+pub(crate) fn decide_hit(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> HitDecision {
+    if super::evidence::is_active(l.evidence[i]) && l.class[i] != CellClass::Free as u8 {
+        return HitDecision::Keep;
+    }
+    let class = CellClass::from_code(l.class[i]).unwrap_or(CellClass::Unknown);
+    if moving::appeared_in_free_space(l, g, i, f) {
+        return HitDecision::Set(CellClass::Moving, Rule::Moving);
+    }
+    if movable::retained(class) {
+        return HitDecision::MovableUnlessMotion;
+    }
+    let rested = stationary::returned_around(l, g, i, f);
+    if movable::extended(l, g, i, class, rested) {
+        return HitDecision::ExtendUnlessMotion;
+    }
+    if class != CellClass::Stationary && moving::near_previous_motion(l, i, f) {
+        return if rested {
+            HitDecision::RestCandidate
+        } else {
+            HitDecision::Set(CellClass::Moving, Rule::MovingContinued)
+        };
+    }
+    if stationary::three_frames(l, g, i, f) && !movable::touches_movable(l, g, i) {
+        HitDecision::Set(CellClass::Stationary, Rule::Stationary)
+    } else if class == CellClass::Stationary {
+        HitDecision::Keep
+    } else {
+        HitDecision::Set(CellClass::Unknown, Rule::Tentative)
+    }
+}

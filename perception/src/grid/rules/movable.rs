@@ -1,0 +1,131 @@
+//! Movable obstacles (Tamura 3.2): addition, retention and deletion.
+
+use super::super::class::CellClass;
+use super::super::evidence::{Rule, pack_rule};
+use super::super::geometry::GridGeometry;
+use super::super::layers::Layers;
+
+/// Retention (Tamura 3.2.2), own cell: a return in a movable cell stays movable — unless motion is
+/// seen next to it in the same frame (decided with [`added`]): then the movable obstacle is being
+/// moved (picked up, pulled away) and the return is moving.
+pub(crate) fn retained(class: CellClass) -> bool {
+    class == CellClass::Movable
+}
+
+/// Retention (Tamura 3.2.2), neighbours: a return that has been in place for three frames (`rested`)
+/// within three cells (Tamura's ε, 0.15 m) of a cell made movable by addition or own-cell retention
+/// joins it (a new face of the same object coming into view, or a return jittering across a cell
+/// boundary). A cell joined this way does not pass the label on, so a movable label can never creep
+/// along a wall it happens to touch.
+pub(crate) fn extended(
+    l: &Layers,
+    g: &GridGeometry,
+    i: usize,
+    class: CellClass,
+    rested: bool,
+) -> bool {
+    if !rested || class == CellClass::Stationary {
+        return false;
+    }
+    let sources = [
+        pack_rule(Rule::MovableAddition),
+        pack_rule(Rule::MovableRetention),
+    ];
+    let mut near = false;
+    g.for_square(i, EXTENSION_REACH, |j| {
+        near |= l.class[j] == CellClass::Movable as u8 && sources.contains(&l.evidence[j]);
+    });
+    near
+}
+
+/// How far (cells, Chebyshev) a movable label extends from a cell found by addition or retention.
+pub(crate) const EXTENSION_REACH: usize = 3;
+
+/// True when a movable cell of any kind lies within the extension reach: such a return
+/// is never made stationary (it stays tentative), so a movable obstacle's fringe — returns jittering
+/// across a cell boundary along its face — cannot turn into a wall.
+pub(crate) fn touches_movable(l: &Layers, g: &GridGeometry, i: usize) -> bool {
+    let mut near = false;
+    g.for_square(i, EXTENSION_REACH, |j| {
+        near |= l.class[j] == CellClass::Movable as u8
+    });
+    near
+}
+
+/// Addition (Tamura 3.2.1): a return near last frame's moving returns, in place for three frames,
+/// rests — it is movable unless other motion (`motion`, grid coordinates of this frame's moving
+/// returns) lies within `radius_cells`, which means the moving obstacle is still there and moving.
+pub(crate) fn added(cell: (i32, i32), motion: &[(i32, i32)], radius_cells: f64) -> bool {
+    let r2 = radius_cells * radius_cells;
+    !motion.iter().any(|&(x, y)| {
+        let (dx, dy) = (f64::from(x - cell.0), f64::from(y - cell.1));
+        dx * dx + dy * dy <= r2
+    })
+}
+
+/// Deletion (Tamura 3.2.3): a movable cell in the visible area V_t, crossed at least the clear margin
+/// before the ray's return, is free again: the movable obstacle has gone. Guard: no return in its
+/// 8-neighbourhood this frame — a ray slipping past an object's corner crosses the corner cell far
+/// before its return while the object is still there, returned next to it.
+pub(crate) fn deleted(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
+    if l.crossed_far(i, f) & 1 == 0 {
+        return false;
+    }
+    let mut quiet = true;
+    g.for_3x3(i, |j| quiet &= l.hits(j, f) & 1 == 0);
+    quiet
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point2;
+
+    fn grid() -> (GridGeometry, Layers) {
+        let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
+        let l = Layers::new(g.len());
+        (g, l)
+    }
+
+    #[test]
+    fn retention_keeps_movable_and_extends_only_from_added_or_retained_cells() {
+        // Invariant: movable stays movable; a resting return within reach of an added/retained cell joins,
+        // never a stationary one, and never one near a cell that itself only joined.
+        let (g, mut l) = grid();
+        assert!(retained(CellClass::Movable));
+        assert!(!retained(CellClass::Stationary));
+        l.class[44] = CellClass::Movable as u8;
+        l.evidence[44] = pack_rule(Rule::MovableAddition);
+        assert!(extended(&l, &g, 45, CellClass::Unknown, true));
+        assert!(!extended(&l, &g, 45, CellClass::Unknown, false));
+        assert!(!extended(&l, &g, 45, CellClass::Stationary, true));
+        assert!(extended(&l, &g, 47, CellClass::Unknown, true), "three away");
+        assert!(!extended(&l, &g, 48, CellClass::Unknown, true));
+        assert!(touches_movable(&l, &g, 77) && !touches_movable(&l, &g, 48));
+        l.evidence[44] = pack_rule(Rule::MovableExtension);
+        assert!(!extended(&l, &g, 45, CellClass::Unknown, true));
+    }
+
+    #[test]
+    fn addition_needs_no_motion_nearby() {
+        // Invariant: a resting return is added as movable only with no moving return within the radius.
+        assert!(added((5, 5), &[], 6.0));
+        assert!(added((5, 5), &[(12, 5)], 6.0));
+        assert!(!added((5, 5), &[(11, 5)], 6.0));
+    }
+
+    #[test]
+    fn deletion_needs_a_far_crossing_and_no_return_around() {
+        // Invariant: only a crossing well before the return, with no return in the 3×3 block, deletes.
+        let (g, mut l) = grid();
+        l.record_crossing(44, 4, false);
+        assert!(!deleted(&l, &g, 44, 4));
+        l.record_crossing(44, 5, true);
+        assert!(deleted(&l, &g, 44, 5));
+        l.record_hit(45, 5);
+        assert!(
+            !deleted(&l, &g, 44, 5),
+            "a return next to it: a ray past the object's corner"
+        );
+    }
+}

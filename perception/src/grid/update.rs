@@ -1,0 +1,233 @@
+//! One range frame into the grid: traverse, classify returns, classify crossed cells, expire motion.
+
+use super::class::CellClass;
+use super::evidence::{Rule, is_active, pack_rule};
+use super::frame::{BeamEnd, RangeFrame};
+use super::layers::NO_OBJECT;
+use super::rules::{self, HitDecision, free_space, movable};
+use super::traversal::Traversal;
+use super::{GridError, ObstacleGrid};
+
+const FREE: u8 = CellClass::Free as u8;
+
+/// Per-frame lists, kept between frames to reuse their allocations (never swept).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    hits: Vec<u32>,
+    crossed: Vec<u32>,
+    decisions: Vec<(u32, HitDecision)>,
+    motion: Vec<(i32, i32)>,
+    new_moving: Vec<u32>,
+}
+
+impl ObstacleGrid {
+    /// Folds one range frame, stamped `now` on the robot clock, into the grid.
+    ///
+    /// Frames must come in clock order (equal stamps are allowed); a non-finite or earlier stamp is an
+    /// error and leaves the grid untouched. Beams outside the grid are clipped; an empty frame still
+    /// counts as a frame (nothing seen: moving cells expire).
+    pub fn update(&mut self, frame: &RangeFrame, now: f64) -> Result<(), GridError> {
+        if !now.is_finite() {
+            return Err(GridError::NonFinite);
+        }
+        if let Some(previous) = self.last_stamp
+            && now < previous
+        {
+            return Err(GridError::TimeWentBack { now, previous });
+        }
+        self.frame = self.frame.checked_add(1).ok_or(GridError::TooManyFrames)?;
+        self.last_stamp = Some(now);
+        self.layers.stamps.push(now);
+        let mut s = std::mem::take(&mut self.scratch);
+        self.traverse(frame, &mut s);
+        self.stamp_previous_motion();
+        self.classify_returns(now, &mut s);
+        self.classify_crossed(now, &s);
+        self.expire_motion(&mut s);
+        self.scratch = s;
+        Ok(())
+    }
+
+    /// Walks every beam: crossed cells and returned cells of this frame, with their histories.
+    fn traverse(&mut self, frame: &RangeFrame, s: &mut Scratch) {
+        let f = self.frame;
+        let sensor = frame.sensor();
+        s.hits.clear();
+        s.crossed.clear();
+        let margin = self.cfg.clear_margin;
+        let tail = self.cfg.clear_tail;
+        let width = self.geom.width();
+        let l = &mut self.layers;
+        for beam in frame.beams() {
+            let hit_cell = match beam.kind {
+                BeamEnd::Hit => self.geom.cell_of(beam.end),
+                BeamEnd::Clear => None,
+            };
+            // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The end of a
+            // clear beam is not a surface, so all its crossings are far.
+            let t_far = match beam.kind {
+                BeamEnd::Hit => {
+                    let len = (beam.end - sensor).norm();
+                    if len > 0.0 { 1.0 - margin / len } else { -1.0 }
+                }
+                BeamEnd::Clear => f64::INFINITY,
+            };
+            // The last `clear_tail` of a beam without a return is not counted as seen: at the range limit
+            // (or the farthest floor point) a return may just have dropped out, and a wall entering the
+            // range next frame must not look like something appearing in free space.
+            let end = match beam.kind {
+                BeamEnd::Hit => beam.end,
+                BeamEnd::Clear => {
+                    let d = beam.end - sensor;
+                    let len = d.norm();
+                    if len <= tail {
+                        continue;
+                    }
+                    sensor + d * ((len - tail) / len)
+                }
+            };
+            for rc in Traversal::new(&self.geom, sensor, end) {
+                let i = rc.cell.y as usize * width + rc.cell.x as usize;
+                if Some(rc.cell) == hit_cell {
+                    break;
+                }
+                // Free cells seen free again need no classification: only list the others.
+                if l.record_crossing(i, f, rc.t_exit <= t_far) && l.class[i] != FREE {
+                    s.crossed.push(i as u32);
+                }
+            }
+            // The return's cell, even if floating point made the walk end a cell short of it.
+            if let Some(c) = hit_cell {
+                let i = c.y as usize * width + c.x as usize;
+                if l.record_hit(i, f) {
+                    s.hits.push(i as u32);
+                }
+            }
+        }
+    }
+
+    /// Stamps the neighbourhood (`moving_step`) of last frame's moving cells.
+    fn stamp_previous_motion(&mut self) {
+        let f = self.frame;
+        let r = (self.cfg.moving_step / self.geom.resolution())
+            .ceil()
+            .max(1.0) as usize;
+        let near = &mut self.layers.near_moving;
+        for &i in &self.moving {
+            self.geom.for_square(i as usize, r, |j| near[j] = f);
+        }
+    }
+
+    /// Tamura's Fig. 5 for every return of the frame, then the rest test, then the writes.
+    fn classify_returns(&mut self, now: f64, s: &mut Scratch) {
+        let f = self.frame;
+        s.decisions.clear();
+        s.motion.clear();
+        let w = self.geom.width();
+        for &i in &s.hits {
+            let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f);
+            if let HitDecision::Set(CellClass::Moving, _) = d {
+                s.motion
+                    .push(((i as usize % w) as i32, (i as usize / w) as i32));
+            }
+            s.decisions.push((i, d));
+        }
+        let rest_cells = self.cfg.rest_radius / self.geom.resolution();
+        s.new_moving.clear();
+        for k in 0..s.decisions.len() {
+            let (i, d) = s.decisions[k];
+            let i = i as usize;
+            let (class, rule) = match d {
+                HitDecision::Keep => continue,
+                HitDecision::Set(c, r) => (c, r),
+                HitDecision::RestCandidate
+                | HitDecision::MovableUnlessMotion
+                | HitDecision::ExtendUnlessMotion => {
+                    let cell = ((i % w) as i32, (i / w) as i32);
+                    if !movable::added(cell, &s.motion, rest_cells) {
+                        (CellClass::Moving, Rule::MovingContinued)
+                    } else if d == HitDecision::RestCandidate {
+                        (CellClass::Movable, Rule::MovableAddition)
+                    } else if d == HitDecision::ExtendUnlessMotion
+                        || self.layers.evidence[i] == pack_rule(Rule::MovableExtension)
+                    {
+                        (CellClass::Movable, Rule::MovableExtension)
+                    } else {
+                        (CellClass::Movable, Rule::MovableRetention)
+                    }
+                }
+            };
+            if matches!(rule, Rule::Stationary | Rule::Tentative) {
+                self.layers.mark_ts(i);
+            }
+            if class == CellClass::Moving {
+                s.new_moving.push(i as u32);
+            }
+            self.write_passive(i, class, rule, now);
+        }
+    }
+
+    /// Crossed cells (listed unless already free) that hold no return this frame: the visible area's
+    /// consequences.
+    fn classify_crossed(&mut self, now: f64, s: &Scratch) {
+        let f = self.frame;
+        for &i in &s.crossed {
+            let i = i as usize;
+            let l = &self.layers;
+            if l.hit_in(i, f) {
+                continue; // a return in the cell wins over rays crossing it
+            }
+            let class = CellClass::from_code(l.class[i]).unwrap_or(CellClass::Unknown);
+            if class == CellClass::Free {
+                continue; // the common case: free space seen free again
+            }
+            let active = is_active(l.evidence[i]);
+            let to_free = match class {
+                CellClass::Free => None,
+                CellClass::Unknown | CellClass::Moving => Some(Rule::SeenFree),
+                CellClass::Movable if !active => {
+                    movable::deleted(l, &self.geom, i, f).then_some(Rule::MovableDeletion)
+                }
+                CellClass::Movable | CellClass::Stationary => {
+                    free_space::cleared(l, &self.geom, i, f).then_some(Rule::StationaryCleared)
+                }
+            };
+            if let Some(rule) = to_free {
+                self.write_passive(i, CellClass::Free, rule, now);
+            }
+        }
+    }
+
+    /// Last frame's moving cells that are neither returned nor seen free now, with no return in their
+    /// 8-neighbourhood either: whatever moved has gone elsewhere, unseen — Unknown, not a ghost
+    /// obstacle. A moving cell with a return next to it (the surface jittering across a cell
+    /// boundary) stays moving for this frame and keeps feeding the continuation rule.
+    fn expire_motion(&mut self, s: &mut Scratch) {
+        let f = self.frame;
+        for &i in &self.moving {
+            let i = i as usize;
+            if self.layers.class[i] != CellClass::Moving as u8 || self.layers.hit_in(i, f) {
+                continue;
+            }
+            let mut returned_around = false;
+            let l = &self.layers;
+            self.geom.for_3x3(i, |j| returned_around |= l.hit_in(j, f));
+            if returned_around && !l.crossed_in(i, f) {
+                s.new_moving.push(i as u32);
+            } else {
+                self.layers.class[i] = CellClass::Unknown as u8;
+                self.layers.evidence[i] = pack_rule(Rule::MovingExpired);
+            }
+        }
+        std::mem::swap(&mut self.moving, &mut s.new_moving);
+    }
+
+    /// Writes a passive class: evidence, no object, replanning check.
+    fn write_passive(&mut self, i: usize, class: CellClass, rule: Rule, now: f64) {
+        let old = self.layers.class[i];
+        self.layers.class[i] = class as u8;
+        self.layers.evidence[i] = pack_rule(rule);
+        self.layers.object[i] = NO_OBJECT;
+        self.check_watch(i, old, class, now);
+    }
+}
