@@ -67,6 +67,9 @@ pub struct ClassifierConfig {
     pub agreement_abs: f64,
     /// Relative tolerance between ICP displacement and hand travel (fraction of the hand travel).
     pub agreement_rel: f64,
+    /// Inlier fraction above which an ICP that stopped short of its convergence test still reads
+    /// "did not move": its last steps oscillate below a millimetre on sensor noise.
+    pub still_min_fitness: f64,
 }
 
 impl Default for ClassifierConfig {
@@ -75,6 +78,7 @@ impl Default for ClassifierConfig {
             still_below: 0.010,
             agreement_abs: 0.030,
             agreement_rel: 0.25,
+            still_min_fitness: 0.8,
         }
     }
 }
@@ -145,7 +149,12 @@ pub fn classify(evidence: &PushEvidence, config: &ClassifierConfig) -> Finding {
     if !evidence.contact {
         return Finding::Ambiguous(Ambiguity::NoContact);
     }
-    let Some(icp) = evidence.icp.filter(|icp| icp.converged) else {
+    // A converged ICP is trusted; an unconverged one only when it says "still" with a good fit, never
+    // as evidence of motion.
+    let Some(icp) = evidence.icp.filter(|icp| {
+        icp.converged
+            || (icp.displacement < config.still_below && icp.fitness >= config.still_min_fitness)
+    }) else {
         return Finding::Ambiguous(Ambiguity::IcpFailed);
     };
     let moved = icp.displacement >= config.still_below;
@@ -247,6 +256,23 @@ mod tests {
             );
             assert!(format!("{finding:?}").starts_with(&format!("Ambiguous({name}")));
         }
+    }
+
+    #[test]
+    fn an_unconverged_but_well_fitting_still_reading_counts_as_still() {
+        // Invariant: ICP that stopped short of convergence with a good fit and no motion still supports "static".
+        let mut e = evidence(true, true, 0.001, Some(0.003));
+        if let Some(icp) = e.icp.as_mut() {
+            icp.converged = false;
+        }
+        assert_eq!(classify(&e, &ClassifierConfig::default()), Finding::Static);
+        if let Some(icp) = e.icp.as_mut() {
+            icp.fitness = 0.5;
+        }
+        assert_eq!(
+            classify(&e, &ClassifierConfig::default()),
+            Finding::Ambiguous(Ambiguity::IcpFailed)
+        );
     }
 
     #[test]

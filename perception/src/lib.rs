@@ -27,7 +27,9 @@ pub use error::PerceptionError;
 pub use floor::{FloorConfig, FloorModel};
 pub use icp::{IcpConfig, IcpResult, colour_icp};
 pub use lookaround::{HeadView, LookAroundConfig, fuse};
-pub use pipeline::{Detection, PerceptionConfig, detect, detect_from_views, detect_objects};
+pub use pipeline::{
+    Detection, PerceptionConfig, detect, detect_from_views, detect_objects, detect_on_floor,
+};
 pub use prism::{ObjectId, Prism, track_ids};
 pub use prisms::{PrismConfig, build_prisms};
 pub use segment::{Cluster, Connectivity, SegmentConfig, label};

@@ -100,6 +100,21 @@ pub fn detect(
         return Err(PerceptionError::EmptyCloud);
     }
     let floor = FloorModel::learn(fused, base_pose, &config.floor)?;
+    detect_on_floor(fused, floor, base_pose, config, previous)
+}
+
+/// [`detect`] with a floor model already known: the floor does not change between looks, while the
+/// patch in front of the robot may show no floor when it faces a wall or an object.
+pub fn detect_on_floor(
+    fused: &ColourCloud,
+    floor: FloorModel,
+    base_pose: &Isometry2<f64>,
+    config: &PerceptionConfig,
+    previous: &[Prism],
+) -> Result<Detection, PerceptionError> {
+    if fused.valid_count() == 0 {
+        return Err(PerceptionError::EmptyCloud);
+    }
     let obstacles = floor.non_floor(fused);
     let centre = Point2::from(base_pose.translation.vector);
     let map = ElevationMap::build(&obstacles, floor.height(), centre, &config.elevation)?;

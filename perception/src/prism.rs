@@ -61,6 +61,24 @@ impl Prism {
             })
     }
 
+    /// The prism grown to cover `other` too: the convex hull of both footprints, both height ranges, and
+    /// this prism's id and points. For one object seen in parts from different places.
+    pub fn merged_with(&self, other: &Prism) -> Prism {
+        let pts: Vec<parry2d::math::Vector2> = self
+            .footprint
+            .iter()
+            .chain(other.footprint.iter())
+            .map(|p| parry2d::math::Vector2::new(p.x as f32, p.y as f32))
+            .collect();
+        Prism {
+            id: self.id,
+            footprint: crate::prisms::convex_footprint(&pts, 0.0),
+            z_min: self.z_min.min(other.z_min),
+            z_max: self.z_max.max(other.z_max),
+            points: self.points.clone(),
+        }
+    }
+
     /// The prism after the object moved by `motion` (a map-frame rigid motion, e.g. a colour-ICP
     /// result): footprint and points move with it. Heights are kept, the motion being a push on the
     /// floor; pass the moved prism to [`track_ids`] so the object keeps its id after a push.

@@ -18,7 +18,9 @@ pub fn scenarios_dir() -> std::path::PathBuf {
 
 /// Loads `scenarios/NAME.toml`.
 pub fn scenario(name: &str) -> anyhow::Result<Scenario> {
-    Ok(Scenario::from_path(&scenarios_dir().join(format!("{name}.toml")))?)
+    Ok(Scenario::from_path(
+        &scenarios_dir().join(format!("{name}.toml")),
+    )?)
 }
 
 /// The run configuration a scenario implies: its robot, goal and seed.

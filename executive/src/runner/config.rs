@@ -10,7 +10,8 @@ use crate::config::ExecutiveConfig;
 /// How the hand pushes during a push test and a clearing push.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PushMotionConfig {
-    /// Hand speed along the push (m/s).
+    /// Hand speed along the push (m/s). Slow, as a guarded move must be: the impact at first contact
+    /// grows with speed and must stay well under the force limit.
     pub speed: f64,
     /// The hand starts this far before the expected contact (m).
     pub approach_gap: f64,
@@ -29,7 +30,7 @@ pub struct PushMotionConfig {
 impl Default for PushMotionConfig {
     fn default() -> Self {
         Self {
-            speed: 0.1,
+            speed: 0.02,
             approach_gap: 0.08,
             test_travel: 0.15,
             contact_threshold: 2.0,
@@ -67,6 +68,14 @@ pub struct RunConfig {
     pub blocking: BlockingConfig,
     /// How the hand pushes.
     pub push_motion: PushMotionConfig,
+    /// Clearance kept between the robot's cylinder and every obstacle when planning (m): the walk stops
+    /// a little short of contact, and perception's footprints are a few millimetres off.
+    pub clearance: f64,
+    /// A remembered obstacle out of view is forgotten once this many floor points are seen inside its
+    /// footprint (it was moved away).
+    pub forget_after_floor_points: usize,
+    /// Prisms within this distance (m) of the edge of everything seen are room structure (walls).
+    pub structure_margin: f64,
     /// Prisms wider than this (m) are walls or furniture too large to push, never candidates.
     pub max_candidate_extent: f64,
     /// Robot time between polls of a running action (s).
@@ -91,6 +100,9 @@ impl RunConfig {
             push: PushConfig::default(),
             blocking: BlockingConfig::default(),
             push_motion: PushMotionConfig::default(),
+            clearance: 0.08,
+            forget_after_floor_points: 30,
+            structure_margin: 0.15,
             max_candidate_extent: 2.0,
             tick: 0.05,
             seed,

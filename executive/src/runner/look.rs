@@ -1,7 +1,7 @@
 //! Looking around and turning what was seen into obstacles.
 
 use nalgebra::{Isometry2, Isometry3, Translation3, UnitQuaternion};
-use nudge_perception::detect_from_views;
+use nudge_perception::{FloorModel, detect_on_floor, fuse};
 
 use super::{Interrupt, Runner};
 use crate::event::Event;
@@ -51,14 +51,29 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(b) => b.value,
             Err(e) => return Interrupt::Robot(e).into(),
         };
-        match detect_from_views(
-            &self.world.views,
+        let fused = fuse(&self.world.views);
+        self.world.see(&fused);
+        // Learn the floor in front of the robot; when that patch shows no floor (facing a wall, an
+        // object), keep the model learnt before.
+        let floor = match FloorModel::learn(&fused, &base, &self.config.perception.floor) {
+            Ok(floor) => floor,
+            Err(e) => match self.world.floor.clone() {
+                Some(floor) => floor,
+                None => return Event::PerceptionFailed(e.to_string()),
+            },
+        };
+        match detect_on_floor(
+            &fused,
+            floor.clone(),
             &base,
             &self.config.perception,
             &self.world.prisms,
         ) {
             Ok(detection) => {
-                self.world.prisms = detection.prisms;
+                let floor_points = floor.split(&fused).0;
+                self.world.floor = Some(floor);
+                self.world
+                    .remember(detection.prisms, &floor_points, &self.config);
                 let stamp = self.robot.now();
                 self.observer.prisms(stamp, &self.world.prisms);
                 Event::ObjectsDetected {

@@ -115,6 +115,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(path) => path,
             Err(_) => return Event::WalkBlocked,
         };
+        let stamp = self.robot.now();
+        self.observer.path(stamp, path.waypoints());
         let walked = self.walk(path.waypoints());
         let outcome = match walked {
             Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),

@@ -118,7 +118,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             (Some(p), Some(before)) => {
                 let shift = direction * stroke.travel_after_contact;
                 let after = self.object_points(p, shift)?;
-                icp_reading(&before, &after, shift)
+                let reading = icp_reading(&before, &after, shift);
+                if let Some((icp, moved)) = reading.as_ref().map(|r| (r.0, r.1)) {
+                    if icp.converged
+                        && icp.displacement >= self.config.executive.classifier.still_below
+                    {
+                        self.world.displace(intent.target, moved);
+                    }
+                }
+                reading.map(|r| r.0)
             }
             _ => None,
         };
@@ -179,6 +187,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.step_forward(direction, advance)?;
             }
         }
+        self.world.displace(intent.target, direction * moved);
         let stamp = self.robot.now();
         self.observer.push(stamp, intent, Some(-direction * peak));
         Ok(Event::Cleared { moved })
@@ -307,12 +316,13 @@ fn crop(cloud: &ColourCloud, prism: &Prism, shift: Vector2<f64>, margin: f64) ->
     out
 }
 
-/// Colour ICP from the points before to the points after, starting from the hand's travel.
+/// Colour ICP from the points before to the points after, starting from the hand's travel: the reading
+/// and the object's planar displacement.
 fn icp_reading(
     before: &ColourCloud,
     after: &ColourCloud,
     shift: Vector2<f64>,
-) -> Option<IcpReading> {
+) -> Option<(IcpReading, Vector2<f64>)> {
     let initial = Isometry3::from_parts(
         Translation3::new(shift.x, shift.y, 0.0),
         UnitQuaternion::identity(),
@@ -320,11 +330,12 @@ fn icp_reading(
     let result = colour_icp(before, after, &initial, &IcpConfig::default()).ok()?;
     let centroid: Point3<f64> = before.centroid()?;
     let moved: Vector3<f64> = result.transform * centroid - centroid;
-    Some(IcpReading {
+    let reading = IcpReading {
         displacement: moved.xy().norm(),
         yaw_deg: result.yaw_deg,
         converged: result.converged,
         fitness: result.fitness,
         rmse: result.rmse,
-    })
+    };
+    Some((reading, moved.xy()))
 }

@@ -37,6 +37,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .prisms
             .iter()
             .filter(|p| !exclude.contains(&p.id) && extent(p) <= self.config.max_candidate_extent)
+            .filter(|p| !self.world.is_structure(p, &self.config))
             .filter_map(|p| {
                 validity
                     .obstacle(p.id)

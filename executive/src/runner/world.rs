@@ -2,7 +2,7 @@
 
 use nalgebra::{Isometry3, Point2};
 use nudge_motion::{Bounds, Path, Problem, PushPlan, Validity};
-use nudge_perception::{ColourCloud, Prism};
+use nudge_perception::{ColourCloud, FloorModel, Prism};
 
 use super::config::RunConfig;
 
@@ -17,37 +17,149 @@ pub(crate) struct WorldModel {
     pub path: Option<Path>,
     /// The push plan being executed.
     pub push_plan: Option<PushPlan>,
+    /// Corners of the box around every point observed so far (map frame): planning stays inside what
+    /// was seen, so it never routes through space no sensor has looked at.
+    pub seen: Option<(Point2<f64>, Point2<f64>)>,
+    /// The floor learnt at the first look (the floor does not change).
+    pub floor: Option<FloorModel>,
     /// Where the camera was at the latest capture.
     pub camera: Option<Isometry3<f64>>,
 }
 
-/// Margin around everything known when no room is given (m).
-const BOUNDS_MARGIN: f64 = 1.0;
+/// Points higher than this are ignored when growing the seen box (m): ceilings, not rooms.
+const SEEN_MAX_HEIGHT: f32 = 2.5;
 
 impl WorldModel {
-    /// The planning bounds: everything seen, the robot and the goal, with a margin.
-    pub fn bounds(&self, robot: &Point2<f64>, config: &RunConfig) -> Option<Bounds> {
-        let mut lo = robot.coords.inf(&config.goal.coords);
-        let mut hi = robot.coords.sup(&config.goal.coords);
-        for p in self.prisms.iter().flat_map(|p| p.footprint.iter()) {
-            lo = lo.inf(&p.coords);
-            hi = hi.sup(&p.coords);
+    /// Grows the seen box by the valid points of `cloud` (map frame).
+    pub fn see(&mut self, cloud: &ColourCloud) {
+        for (_, p, _) in cloud.iter_valid() {
+            if p.z > SEEN_MAX_HEIGHT {
+                continue;
+            }
+            let q = Point2::new(f64::from(p.x), f64::from(p.y));
+            self.seen = Some(match self.seen {
+                Some((lo, hi)) => (lo.inf(&q), hi.sup(&q)),
+                None => (q, q),
+            });
         }
-        let m = nalgebra::Vector2::repeat(BOUNDS_MARGIN);
-        Bounds::new(Point2::from(lo - m), Point2::from(hi + m)).ok()
     }
 
-    /// The validity checker for the current obstacles.
+    /// The planning bounds: the seen box, grown to hold the robot's and the goal's discs.
+    pub fn bounds(&self, robot: &Point2<f64>, config: &RunConfig) -> Option<Bounds> {
+        let r = nalgebra::Vector2::repeat(config.robot.radius);
+        let (mut lo, mut hi) = self.seen.unwrap_or((*robot, *robot));
+        for p in [robot, &config.goal] {
+            lo = lo.inf(&(p - r));
+            hi = hi.sup(&(p + r));
+        }
+        Bounds::new(lo, hi).ok()
+    }
+
+    /// The validity checker for the current obstacles, for a robot grown by the configured clearance —
+    /// or by less, down to none, when the robot already stands closer than that to something (after a
+    /// push, or where the walk stopped short).
     pub fn validity(&self, robot: &Point2<f64>, config: &RunConfig) -> Result<Validity, String> {
+        let mut last = Err("no planning bounds".to_string());
+        for fraction in [1.0, 0.5, 0.0] {
+            last = self.validity_with(robot, config, config.clearance * fraction);
+            if let Ok(v) = &last {
+                if nudge_motion::StateValidity::is_free(v, robot) {
+                    return last;
+                }
+            }
+        }
+        last
+    }
+
+    fn validity_with(
+        &self,
+        robot: &Point2<f64>,
+        config: &RunConfig,
+        clearance: f64,
+    ) -> Result<Validity, String> {
         let bounds = self
             .bounds(robot, config)
             .ok_or_else(|| "no planning bounds".to_string())?;
-        Validity::new(config.robot, bounds, &self.prisms, config.validity)
-            .map_err(|e| e.to_string())
+        // Plan for a cylinder grown by the clearance; the bounds grow with it, since they were made for
+        // the robot's own discs.
+        let cylinder = nudge_motion::RobotCylinder {
+            radius: config.robot.radius + clearance,
+            height: config.robot.height,
+        };
+        let grow = nalgebra::Vector2::repeat(clearance);
+        let bounds =
+            Bounds::new(bounds.min() - grow, bounds.max() + grow).map_err(|e| e.to_string())?;
+        Validity::new(cylinder, bounds, &self.prisms, config.validity).map_err(|e| e.to_string())
+    }
+
+    /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a
+    /// new obstacle overlapping an old one grows to cover it unless the new look saw floor where the old
+    /// part stood (one object seen in parts), and an old obstacle no new one overlaps is kept unless the
+    /// new look saw floor inside it (it was moved away).
+    pub fn remember(
+        &mut self,
+        detected: Vec<Prism>,
+        floor_points: &ColourCloud,
+        config: &RunConfig,
+    ) {
+        let seen_floor = |old: &Prism, new: Option<&Prism>| {
+            floor_points
+                .iter_valid()
+                .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
+                .filter(|q| old.contains_xy(q) && !new.is_some_and(|n| n.contains_xy(q)))
+                .take(config.forget_after_floor_points)
+                .count()
+                >= config.forget_after_floor_points
+        };
+        let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
+        let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
+        for new in detected {
+            let mut merged = new.clone();
+            for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
+                if !seen_floor(old, Some(&new)) {
+                    merged = merged.merged_with(old);
+                }
+            }
+            current.push(merged);
+        }
+        for old in &self.prisms {
+            if !current.iter().any(|c| overlaps(c, old)) && !seen_floor(old, None) {
+                current.push(old.clone());
+            }
+        }
+        current.sort_by_key(|p| p.id);
+        self.prisms = current;
+    }
+
+    /// Moves `id`'s obstacle by a measured planar displacement (a confirmed push): its old footprint is
+    /// free now even where no background shows behind it.
+    pub fn displace(&mut self, id: nudge_perception::ObjectId, offset: nalgebra::Vector2<f64>) {
+        let motion = Isometry3::translation(offset.x, offset.y, 0.0);
+        for p in self.prisms.iter_mut().filter(|p| p.id == id) {
+            *p = p.transformed(&motion);
+        }
+    }
+
+    /// Whether `prism` lies at the edge of everything seen: a wall, not an object to push.
+    pub fn is_structure(&self, prism: &Prism, config: &RunConfig) -> bool {
+        let Some((lo, hi)) = self.seen else {
+            return false;
+        };
+        let m = config.structure_margin;
+        prism
+            .footprint
+            .iter()
+            .any(|p| p.x < lo.x + m || p.y < lo.y + m || p.x > hi.x - m || p.y > hi.y - m)
     }
 
     /// The problem from `robot` to the goal.
     pub fn problem(robot: &Point2<f64>, config: &RunConfig) -> Result<Problem, String> {
         Problem::new(*robot, config.goal, config.goal_tolerance).map_err(|e| e.to_string())
     }
+}
+
+/// Whether the robot's disc at `centre` overlaps `prism`'s footprint by more than a few centimetres.
+fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
+    let inner = radius * 0.5;
+    prism.contains_xy(centre) || prism.footprint.iter().any(|v| (v - centre).norm() < inner)
 }
