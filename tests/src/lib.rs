@@ -2,6 +2,8 @@
 //! shared helpers.
 #![warn(missing_docs)]
 
+pub mod truth;
+
 use nalgebra::Point2;
 use nudge_executive::record::Observer;
 use nudge_executive::{CandidatePolicy, RunConfig, RunReport, Runner};

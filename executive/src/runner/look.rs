@@ -72,8 +72,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(detection) => {
                 let floor_points = floor.split(&fused).0;
                 self.world.floor = Some(floor);
+                let here = nalgebra::Point2::from(base.translation.vector);
                 self.world
-                    .remember(detection.prisms, &floor_points, &self.config);
+                    .remember(detection.prisms, &floor_points, &here, &self.config);
                 let stamp = self.robot.now();
                 self.observer.prisms(stamp, &self.world.prisms);
                 Event::ObjectsDetected {

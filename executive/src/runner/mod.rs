@@ -110,7 +110,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             let Some(event) = event else {
                 break;
             };
-            state = step.state.clone();
+            state.clone_from(&step.state);
             let next = transition(&state, &step.knowledge, &event, &self.config.executive);
             self.record(&mut timeline, &state, &next);
             self.report_verdicts(&step.knowledge, &next.knowledge, &event);
@@ -125,6 +125,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             knowledge: step.knowledge,
             robot_time: self.robot.now() - self.start_time,
             timeline,
+            obstacles: self.world.prisms.clone(),
         }
     }
 

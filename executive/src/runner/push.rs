@@ -119,12 +119,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 let shift = direction * stroke.travel_after_contact;
                 let after = self.object_points(p, shift)?;
                 let reading = icp_reading(&before, &after, shift);
-                if let Some((icp, moved)) = reading.as_ref().map(|r| (r.0, r.1)) {
-                    if icp.converged
-                        && icp.displacement >= self.config.executive.classifier.still_below
-                    {
-                        self.world.displace(intent.target, moved);
-                    }
+                if let Some((icp, moved)) = reading
+                    && icp.converged
+                    && icp.displacement >= self.config.executive.classifier.still_below
+                {
+                    self.world.displace(intent.target, moved);
                 }
                 reading.map(|r| r.0)
             }

@@ -1,12 +1,14 @@
 //! What a run reports when it ends.
 
+use nudge_perception::Prism;
+
 use crate::machine::{Edge, Knowledge};
 use crate::state::State;
 
 /// One transition of the run, stamped with robot time.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TimelineEntry {
-    /// Robot time (s) since the run started... as read from the robot clock.
+    /// Robot-clock time of the transition (s).
     pub stamp: f64,
     /// The state left.
     pub from: &'static str,
@@ -27,6 +29,8 @@ pub struct RunReport {
     pub robot_time: f64,
     /// Every transition in order.
     pub timeline: Vec<TimelineEntry>,
+    /// The obstacles as the executive knew them at the end (pushed ones where they were pushed to).
+    pub obstacles: Vec<Prism>,
 }
 
 impl RunReport {

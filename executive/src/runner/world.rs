@@ -62,10 +62,10 @@ impl WorldModel {
         let mut last = Err("no planning bounds".to_string());
         for fraction in [1.0, 0.5, 0.0] {
             last = self.validity_with(robot, config, config.clearance * fraction);
-            if let Ok(v) = &last {
-                if nudge_motion::StateValidity::is_free(v, robot) {
-                    return last;
-                }
+            if let Ok(v) = &last
+                && nudge_motion::StateValidity::is_free(v, robot)
+            {
+                return last;
             }
         }
         last
@@ -100,8 +100,12 @@ impl WorldModel {
         &mut self,
         detected: Vec<Prism>,
         floor_points: &ColourCloud,
+        robot: &Point2<f64>,
         config: &RunConfig,
     ) {
+        // The robot cannot stand inside an object: what it stands on was moved (or never was).
+        let radius = config.robot.radius;
+        self.prisms.retain(|p| !prism_covers_disc(p, robot, radius));
         let seen_floor = |old: &Prism, new: Option<&Prism>| {
             floor_points
                 .iter_valid()
