@@ -1,0 +1,120 @@
+//! Perception on the simulation's colour range clouds, scored against ground truth: one look-around
+//! of the paper's room from the start pose.
+
+use nalgebra::Point2;
+use nudge_executive::robot::{ActionStatus, Base, Clock, Head, RangeCamera};
+use nudge_perception::prism::convex_iou;
+use nudge_perception::{PerceptionConfig, Prism, detect_from_views};
+use nudge_sim::adapter::SimRobot;
+
+/// The 15 clouds of one look-around from where the robot stands, and the robot's pose.
+fn look_around(
+    robot: &mut SimRobot,
+) -> (Vec<nudge_perception::ColourCloud>, nalgebra::Isometry2<f64>) {
+    let config = PerceptionConfig::default();
+    let mut clouds = Vec::new();
+    for view in config.look_around.views() {
+        robot
+            .start_point_head(view.pan_rad(), view.tilt_rad())
+            .expect("head");
+        while robot.head_status().expect("status") == ActionStatus::Running {
+            robot.advance(0.05).expect("advance");
+        }
+        clouds.push(robot.capture().expect("capture"));
+    }
+    (clouds, robot.base_pose().expect("pose").value)
+}
+
+fn centroid(poly: &[Point2<f64>]) -> Point2<f64> {
+    let sum = poly
+        .iter()
+        .fold(nalgebra::Vector2::zeros(), |a, p| a + p.coords);
+    Point2::from(sum / poly.len().max(1) as f64)
+}
+
+#[test]
+fn one_look_around_gives_one_prism_per_object_with_the_true_footprint_and_height() {
+    // Invariant: after one look-around each true object has exactly one prism, IoU ≥ 0.8, top within 40 mm; walls appear; the mat is no taller than itself + 2 cm.
+    let scenario = nudge_tests::scenario("kakiuchi-room").expect("scenario");
+    let mut robot = SimRobot::new(&scenario, scenario.seed).expect("world");
+    let (clouds, base) = look_around(&mut robot);
+    let prisms: Vec<Prism> = detect_from_views(&clouds, &base, &PerceptionConfig::default(), &[])
+        .expect("detection")
+        .prisms;
+    for object in &scenario.objects {
+        let truth = object.footprint().expect("valid size").polygon();
+        let top = object.top().expect("valid size");
+        let matching: Vec<&Prism> = prisms
+            .iter()
+            .filter(|p| convex_iou(&p.footprint, &truth) > 0.1)
+            .collect();
+        assert_eq!(
+            matching.len(),
+            1,
+            "{}: {} prisms overlap it",
+            object.name,
+            matching.len()
+        );
+        let prism = matching[0];
+        let iou = convex_iou(&prism.footprint, &truth);
+        println!(
+            "{}: IoU {iou:.3}, top {:.3} m (true {top:.3} m)",
+            object.name, prism.z_max
+        );
+        if object.is_flat() {
+            assert!(
+                prism.z_max <= top + 0.02,
+                "{}: the mat became {:.3} m tall",
+                object.name,
+                prism.z_max
+            );
+        } else {
+            assert!(iou >= 0.8, "{}: IoU {iou:.3}", object.name);
+            assert!(
+                (prism.z_max - top).abs() <= 0.04,
+                "{}: top {:.3} vs {top:.3}",
+                object.name,
+                prism.z_max
+            );
+        }
+    }
+    // Walls: long thin prisms along the room's sides in view (y = 0 and y = 3.6 from the start).
+    let [sx, sy] = scenario.room.size;
+    for (name, on_wall) in [
+        (
+            "south wall",
+            Box::new(|c: Point2<f64>| c.y.abs() < 0.1) as Box<dyn Fn(Point2<f64>) -> bool>,
+        ),
+        (
+            "north wall",
+            Box::new(move |c: Point2<f64>| (c.y - sy).abs() < 0.1),
+        ),
+    ] {
+        let length: f64 = prisms
+            .iter()
+            .filter(|p| on_wall(centroid(&p.footprint)) && p.z_max > 1.0)
+            .map(|p| {
+                let xs = p.footprint.iter().map(|q| q.x);
+                xs.clone().fold(f64::MIN, f64::max) - xs.fold(f64::MAX, f64::min)
+            })
+            .sum();
+        println!("{name}: {length:.2} m of wall seen (room {sx} m long)");
+        assert!(
+            length > 3.0,
+            "{name}: only {length:.2} m appear as obstacles"
+        );
+    }
+    // Nothing covers the open floor: the start, the goal, the corridor south of the table.
+    for p in [
+        Point2::new(0.6, 1.8),
+        Point2::new(5.4, 1.8),
+        Point2::new(3.0, 0.6),
+    ] {
+        assert!(
+            prisms
+                .iter()
+                .all(|prism| !prism.contains_xy(&p) || prism.z_max <= 0.03),
+            "an obstacle covers the open floor at {p}"
+        );
+    }
+}
