@@ -4,10 +4,8 @@
 
 pub mod truth;
 
-use nalgebra::Point2;
 use nudge_executive::record::Observer;
-use nudge_executive::{CandidatePolicy, RunConfig, RunReport, Runner};
-use nudge_motion::RobotCylinder;
+use nudge_executive::{CandidatePolicy, RunReport};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::scenario::Scenario;
 
@@ -25,18 +23,6 @@ pub fn scenario(name: &str) -> anyhow::Result<Scenario> {
     )?)
 }
 
-/// The run configuration a scenario implies: its robot, goal and seed.
-pub fn run_config(scenario: &Scenario, seed: u64, policy: CandidatePolicy) -> RunConfig {
-    let robot = RobotCylinder {
-        radius: scenario.robot.radius,
-        height: scenario.robot.height,
-    };
-    let goal = Point2::new(scenario.goal.position[0], scenario.goal.position[1]);
-    let mut config = RunConfig::new(robot, goal, scenario.goal.tolerance, seed);
-    config.executive.policy = policy;
-    config
-}
-
 /// Runs `scenario` in the simulation and returns the report and the robot (for ground truth).
 pub fn run<O: Observer>(
     scenario: &Scenario,
@@ -44,9 +30,6 @@ pub fn run<O: Observer>(
     policy: CandidatePolicy,
     observer: O,
 ) -> anyhow::Result<(RunReport, SimRobot)> {
-    let robot = SimRobot::new(scenario, seed)?;
-    let mut runner = Runner::new(robot, observer, run_config(scenario, seed, policy));
-    let report = runner.run();
-    let (robot, _) = runner.into_parts();
+    let (report, robot, _) = nudge_sim::run::run(scenario, seed, policy, observer)?;
     Ok((report, robot))
 }

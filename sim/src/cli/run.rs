@@ -1,0 +1,170 @@
+//! `nudge run`: one scenario, its timeline, its summary.
+
+use std::process::ExitCode;
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use anyhow::Context;
+use nudge_executive::record::{McapRecorder, NullObserver, Observer, RunInfo};
+use nudge_executive::{CandidatePolicy, RunReport, State};
+use nudge_sim::run::runner;
+use nudge_sim::scenario::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML, Scenario};
+
+use super::timeline::{TimelinePrinter, verdict_word};
+use super::{EXIT_ABORTED, EXIT_NO_PATH, RunArgs};
+
+/// A recorder when `--record` was given, nothing otherwise.
+enum MaybeRecorder {
+    Off(NullObserver),
+    On(Box<McapRecorder>),
+}
+
+impl Observer for MaybeRecorder {
+    fn transition(&mut self, t: f64, from: &State, e: nudge_executive::Edge, to: &State) {
+        self.inner().transition(t, from, e, to);
+    }
+    fn verdict(
+        &mut self,
+        t: f64,
+        o: nudge_perception::ObjectId,
+        v: &nudge_executive::Verdict,
+        e: &nudge_executive::PushEvidence,
+    ) {
+        self.inner().verdict(t, o, v, e);
+    }
+    fn cloud(&mut self, c: &nudge_perception::ColourCloud) {
+        self.inner().cloud(c);
+    }
+    fn prisms(&mut self, t: f64, p: &[nudge_perception::Prism]) {
+        self.inner().prisms(t, p);
+    }
+    fn grid(&mut self, t: f64, g: &nudge_executive::record::GridView<'_>) {
+        self.inner().grid(t, g);
+    }
+    fn tree(&mut self, t: f64, e: &[[nalgebra::Point2<f64>; 2]]) {
+        self.inner().tree(t, e);
+    }
+    fn path(&mut self, t: f64, w: &[nalgebra::Point2<f64>]) {
+        self.inner().path(t, w);
+    }
+    fn push(&mut self, t: f64, i: &nudge_executive::PushIntent, f: Option<nalgebra::Vector2<f64>>) {
+        self.inner().push(t, i, f);
+    }
+    fn frames(&mut self, t: f64, f: &nudge_executive::record::RobotFrames) {
+        self.inner().frames(t, f);
+    }
+    fn wrench(&mut self, t: f64, w: &nudge_executive::robot::Wrench) {
+        self.inner().wrench(t, w);
+    }
+    fn note(&mut self, t: f64, l: nudge_executive::record::LogLevel, s: &str) {
+        self.inner().note(t, l, s);
+    }
+}
+
+impl MaybeRecorder {
+    fn inner(&mut self) -> &mut dyn Observer {
+        match self {
+            MaybeRecorder::Off(n) => n,
+            MaybeRecorder::On(r) => r.as_mut(),
+        }
+    }
+}
+
+pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
+    let (scenario, file_name, text) = match &args.scenario {
+        Some(path) => {
+            let scenario = Scenario::from_path(path)?;
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            let name = path.file_name().map_or_else(
+                || path.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            (scenario, name, text)
+        }
+        None => (
+            Scenario::default_room()?,
+            DEFAULT_ROOM_ORIGIN.to_string(),
+            DEFAULT_ROOM_TOML.to_string(),
+        ),
+    };
+    let seed = args.seed.unwrap_or(scenario.seed);
+    let policy: CandidatePolicy = args.policy.map(Into::into).unwrap_or_default();
+    let recorder = match &args.record {
+        Some(path) => {
+            let info = RunInfo {
+                scenario: scenario.name.clone(),
+                seed,
+                version: env!("CARGO_PKG_VERSION").to_string(),
+                policy: format!("{policy:?}").to_lowercase(),
+                scenario_file: Some((file_name.clone(), text)),
+            };
+            MaybeRecorder::On(Box::new(McapRecorder::create(path, &info)?))
+        }
+        None => MaybeRecorder::Off(NullObserver),
+    };
+    println!(
+        "nudge: {} ({file_name}), seed {seed}, policy {policy:?}",
+        scenario.name
+    );
+    let printer = TimelinePrinter {
+        enabled: !args.quiet,
+    };
+    let mut runner = runner(&scenario, seed, policy, (printer, recorder))?;
+    let cancel = runner.cancel_flag();
+    // Ctrl-C cancels the run safely (the arm retracts, the recording is finished); a second one is
+    // the operating system's.
+    let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed));
+    let started = Instant::now();
+    let report = runner.run();
+    let wall = started.elapsed().as_secs_f64();
+    let (_, (_, recorder)) = runner.into_parts();
+    if let (MaybeRecorder::On(recorder), Some(path)) = (recorder, &args.record) {
+        match recorder.finish() {
+            Ok(_) => println!("recording: {}", path.display()),
+            Err(e) => eprintln!("nudge: recording {} is incomplete: {e}", path.display()),
+        }
+    }
+    summarise(&report, wall);
+    Ok(match report.outcome {
+        State::Goal => ExitCode::SUCCESS,
+        State::NoPathToGoal(_) => ExitCode::from(EXIT_NO_PATH),
+        _ => ExitCode::from(EXIT_ABORTED),
+    })
+}
+
+fn summarise(report: &RunReport, wall: f64) {
+    println!();
+    let outcome = match &report.outcome {
+        State::Goal => "reached the goal".to_string(),
+        State::NoPathToGoal(e) => format!(
+            "no path to the goal ({})",
+            e.no_path.as_deref().unwrap_or("no reason")
+        ),
+        State::Aborted(reason, _) => format!("aborted: {reason}"),
+        other => format!("ended in {}", other.name()),
+    };
+    println!("outcome      {outcome}");
+    let explanation = &report.knowledge.explanation;
+    println!("push tests   {}", report.knowledge.push_tests);
+    for t in &explanation.tests {
+        let icp = t
+            .icp_mm
+            .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
+        println!(
+            "  {} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
+            t.object, t.attempt, t.peak_force, t.hand_travel_mm, t.finding
+        );
+    }
+    for (id, verdict) in &explanation.verdicts {
+        println!("verdict      {id} is {}", verdict_word(verdict));
+    }
+    for (id, why) in &explanation.unpushable {
+        println!("unpushable   {id}: {why}");
+    }
+    println!("robot time   {:.1} s", report.robot_time);
+    println!("wall time    {wall:.2} s");
+    if wall > 0.0 {
+        println!("real-time    {:.0}×", report.robot_time / wall);
+    }
+}

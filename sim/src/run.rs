@@ -1,0 +1,50 @@
+//! Running a scenario: the executive's configuration a scenario implies, and a run in the simulation.
+
+use nalgebra::Point2;
+use nudge_executive::record::Observer;
+use nudge_executive::{CandidatePolicy, RunConfig, RunReport, Runner};
+use nudge_motion::RobotCylinder;
+
+use crate::adapter::SimRobot;
+use crate::scenario::Scenario;
+use crate::world::WorldError;
+
+/// The run configuration a scenario implies: its robot's cylinder, its goal, the seed and the policy.
+pub fn run_config(scenario: &Scenario, seed: u64, policy: CandidatePolicy) -> RunConfig {
+    let robot = RobotCylinder {
+        radius: scenario.robot.radius,
+        height: scenario.robot.height,
+    };
+    let goal = Point2::new(scenario.goal.position[0], scenario.goal.position[1]);
+    let mut config = RunConfig::new(robot, goal, scenario.goal.tolerance, seed);
+    config.executive.policy = policy;
+    config
+}
+
+/// A scenario's runner in the simulation, ready to run (its cancel flag can be taken first).
+pub fn runner<O: Observer>(
+    scenario: &Scenario,
+    seed: u64,
+    policy: CandidatePolicy,
+    observer: O,
+) -> Result<Runner<SimRobot, O>, WorldError> {
+    let robot = SimRobot::new(scenario, seed)?;
+    Ok(Runner::new(
+        robot,
+        observer,
+        run_config(scenario, seed, policy),
+    ))
+}
+
+/// Runs `scenario` to its end; returns the report, the robot (for ground truth) and the observer.
+pub fn run<O: Observer>(
+    scenario: &Scenario,
+    seed: u64,
+    policy: CandidatePolicy,
+    observer: O,
+) -> Result<(RunReport, SimRobot, O), WorldError> {
+    let mut runner = runner(scenario, seed, policy, observer)?;
+    let report = runner.run();
+    let (robot, observer) = runner.into_parts();
+    Ok((report, robot, observer))
+}
