@@ -144,20 +144,9 @@ fn bench_frame(c: &mut Criterion) {
         rayon::current_num_threads()
     );
 
-    // CPU time per frame (user + system, all threads): wall-clock medians on a shared machine
-    // mostly measure the other processes, CPU time measures the sensor.
-    if let Some(before) = process_cpu_seconds() {
-        let frames = 200;
-        for seed in 0..frames {
-            black_box(sensor.capture(&scene, &pose, 0.0, seed));
-        }
-        if let Some(after) = process_cpu_seconds() {
-            eprintln!(
-                "range_frame: {:.2} ms CPU per frame over {frames} frames",
-                (after - before) * 1e3 / frames as f64
-            );
-        }
-    }
+    report_cpu("range_frame", |seed| {
+        black_box(sensor.capture(&scene, &pose, 0.0, seed));
+    });
 
     let mut seed = 0u64;
     c.bench_function("range_frame_176x144", |b| {
@@ -204,6 +193,9 @@ fn bench_world_frame(c: &mut Criterion) {
         * UnitQuaternion::from_euler_angles(0.0, 20f64.to_radians(), 0.0);
     let valid = sensor.capture(&scene, &pose, 0.0, 0).valid_count();
     eprintln!("range_frame_world: {valid} pixels return");
+    report_cpu("range_frame_world", |seed| {
+        black_box(sensor.capture(&scene, &pose, 0.0, seed));
+    });
 
     let mut seed = 0u64;
     c.bench_function("range_frame_world_176x144", |b| {
@@ -212,6 +204,24 @@ fn bench_world_frame(c: &mut Criterion) {
             black_box(sensor.capture(&scene, black_box(&pose), 0.0, seed))
         })
     });
+}
+
+/// Prints the CPU time (user + system, all threads) per call of `frame` over 200 calls: on a shared
+/// machine wall-clock medians mostly measure the other processes, CPU time measures the sensor.
+fn report_cpu(label: &str, mut frame: impl FnMut(u64)) {
+    let frames = 200;
+    let Some(before) = process_cpu_seconds() else {
+        return;
+    };
+    for seed in 0..frames {
+        frame(seed);
+    }
+    if let Some(after) = process_cpu_seconds() {
+        eprintln!(
+            "{label}: {:.2} ms CPU per frame over {frames} frames",
+            (after - before) * 1e3 / frames as f64
+        );
+    }
 }
 
 /// User + system CPU time of this process so far (s), from /proc (Linux only).

@@ -517,9 +517,10 @@ impl Frame<'_> {
         let first = row * width;
         let dirs = &self.sensor.directions[first..first + width];
         caster.begin_row(row);
+        let rotation = Matrix::from_quat(self.pose.rotation);
 
         for (col, dir) in dirs.iter().enumerate() {
-            let world_dir = self.pose.rotation * *dir;
+            let world_dir = rotation * *dir;
             let ray = Ray::new(self.pose.translation, world_dir);
             let Some(hit) = caster.first_hit(col, &ray, max_range) else {
                 continue;
@@ -615,6 +616,8 @@ struct Leaf<'c> {
     geometry: LeafGeometry<'c>,
     /// World AABB corners, in the sensor frame.
     corners: [Vector; 8],
+    /// Distance from the sensor to the leaf's AABB: no ray meets the leaf nearer than this.
+    near: Real,
 }
 
 /// How a leaf meets a ray.
@@ -757,6 +760,9 @@ impl<'c> Leaves<'c> {
                     surface,
                     geometry: LeafGeometry::new(shape, pose, frame.pose.translation),
                     corners,
+                    near: (frame.pose.translation
+                        - frame.pose.translation.clamp(aabb.mins, aabb.maxs))
+                    .length(),
                 });
             };
             match collider.shape().as_compound() {
@@ -768,6 +774,8 @@ impl<'c> Leaves<'c> {
                 None => push(collider.shape(), *collider.position()),
             }
         }
+        // Nearest first (ties keep the broad phase's order, so the order is deterministic).
+        leaves.sort_by(|a, b| a.near.total_cmp(&b.near));
         Self {
             leaves,
             half_w,
@@ -858,6 +866,10 @@ impl<'c> RowCaster<'c> for CulledCaster<'_, 'c> {
         for &(lo, hi, i) in &self.candidates {
             if col < lo || col > hi {
                 continue;
+            }
+            // Leaves come nearest first (see `Leaves::gather`): past the best hit, none can beat it.
+            if best.is_some_and(|(_, t)| self.leaves.leaves[i].near > t) {
+                break;
             }
             let limit = best.map_or(max_range, |(_, t)| t);
             if let Some(t) = self.leaves.leaves[i].geometry.toi(ray, limit)
