@@ -370,3 +370,69 @@ impl Actor {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(waypoints: Vec<[f64; 2]>, pause: Vec<f64>, repeat: bool) -> ActorSpec {
+        ActorSpec {
+            name: "a".into(),
+            radius: 0.25,
+            height: 1.7,
+            waypoints,
+            speed: 1.0,
+            start_time: 2.0,
+            pause,
+            repeat,
+            carries: None,
+            drop_at: None,
+            pick_at: None,
+        }
+    }
+
+    #[test]
+    fn arrivals_count_each_waypoint_once() {
+        // Arrivals rise by one at each waypoint reached; a one-way plan stops counting at its end.
+        let plan = Plan::new(&spec(
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+            vec![],
+            false,
+        ))
+        .expect("valid");
+        let arrivals: Vec<usize> = [1.0, 2.0, 2.5, 3.5, 5.0, 50.0]
+            .iter()
+            .map(|t| plan.state_at(*t).arrivals)
+            .collect();
+        assert_eq!(arrivals, vec![0, 1, 1, 2, 3, 3]);
+        assert_eq!(plan.state_at(50.0).position, Point2::new(1.0, 1.0));
+    }
+
+    #[test]
+    fn repeating_plan_is_periodic() {
+        // A repeating plan is at the same place one cycle later, and heads back to the first waypoint.
+        let plan =
+            Plan::new(&spec(vec![[0.0, 0.0], [2.0, 0.0]], vec![0.5, 0.5], true)).expect("valid");
+        // Cycle: 0.5 + 2 + 0.5 + 2 = 5 s.
+        for t in [2.3, 3.7, 5.9] {
+            let (a, b) = (plan.state_at(t), plan.state_at(t + 5.0));
+            assert!((a.position - b.position).norm() < 1e-9);
+            assert_eq!(b.arrivals, a.arrivals + 2);
+        }
+        let back = plan.state_at(2.0 + 0.5 + 2.0 + 0.5 + 1.0);
+        assert!((back.position - Point2::new(1.0, 0.0)).norm() < 1e-9);
+        assert!((back.heading.abs() - std::f64::consts::PI).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_actors_are_errors() {
+        // No waypoints, a non-positive speed, or a drop index past the end are refused.
+        assert!(Plan::new(&spec(vec![], vec![], false)).is_err());
+        let mut s = spec(vec![[0.0, 0.0]], vec![], false);
+        s.speed = 0.0;
+        assert!(Plan::new(&s).is_err());
+        let mut s = spec(vec![[0.0, 0.0], [1.0, 0.0]], vec![], false);
+        s.drop_at = Some(2);
+        assert!(Plan::new(&s).is_err());
+    }
+}

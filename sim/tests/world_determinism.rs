@@ -2,11 +2,14 @@
 mod world_common;
 
 use nalgebra::{Isometry3, Point2, Point3};
-use nudge_executive::robot::{Arm, Base, Clock, GuardedMove, Stamped, Wrench, WristSensor};
+use nudge_executive::robot::{
+    Arm, Base, Clock, GuardedMove, RangeCamera, Stamped, Wrench, WristSensor,
+};
 use nudge_sim::adapter::SimRobot;
 use world_common::*;
 
-/// Walks towards chair-1's back in the paper's room, pushes it, and records everything.
+/// Walks towards chair-1's back in the paper's room, pushes it, and records everything (wrist
+/// samples, object poses every 0.1 s, and the bits of one range frame at the end).
 fn run(seed: u64) -> (Vec<Stamped<Wrench>>, Vec<Isometry3<f64>>) {
     let mut robot = SimRobot::new(&scenario(KAKIUCHI_ROOM), seed).expect("world");
     robot
@@ -33,6 +36,22 @@ fn run(seed: u64) -> (Vec<Stamped<Wrench>>, Vec<Isometry3<f64>>) {
         robot.advance(0.1).expect("advance");
         poses.extend((0..4).filter_map(|i| robot.world().object_pose(i)));
     }
+    let cloud = robot.capture().expect("range frame");
+    // The frame's coordinates ride along as poses' translations, bit for bit.
+    poses.extend(
+        cloud
+            .xs()
+            .iter()
+            .zip(cloud.ys())
+            .zip(cloud.zs())
+            .map(|((x, y), z)| {
+                Isometry3::translation(
+                    f64::from(x.to_bits()),
+                    f64::from(y.to_bits()),
+                    f64::from(z.to_bits()),
+                )
+            }),
+    );
     (robot.drain_wrenches().expect("drain"), poses)
 }
 
@@ -54,4 +73,20 @@ fn another_seed_changes_the_noise() {
     let (w1, _) = run(11);
     let (w2, _) = run(12);
     assert_ne!(w1, w2);
+}
+
+#[test]
+fn thread_count_does_not_change_the_run() {
+    // The physics (rapier's parallel solver) and the sensors give the same run on 1 and on 3 threads.
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+            .install(|| run(11))
+    };
+    let (w1, p1) = on(1);
+    let (w3, p3) = on(3);
+    assert_eq!(w1, w3);
+    assert_eq!(p1, p3);
 }

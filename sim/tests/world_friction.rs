@@ -61,3 +61,21 @@ fn sliding_box_stops_after_v2_over_2_mu_g() {
         "slid {slid} m, expected {expected} m"
     );
 }
+
+#[test]
+fn invalid_objects_are_errors_not_panics() {
+    // An object with the wrong number of sizes, a non-positive mass or friction out of [0, 2] is
+    // refused with an error naming it.
+    use nudge_sim::world::{World, WorldError};
+    for object in [
+        "name = \"bad\"\nkind = \"box\"\nposition = [3.0, 1.8]\nsize = [0.4, 0.4]\nmass = 4.0\ncolour = [1, 2, 3]",
+        "name = \"bad\"\nkind = \"chair\"\nposition = [3.0, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 0.0\ncolour = [1, 2, 3]",
+        "name = \"bad\"\nkind = \"cylinder\"\nposition = [3.0, 1.8]\nsize = [0.4, 0.8]\nmass = 1.0\nfriction = 2.5\ncolour = [1, 2, 3]",
+    ] {
+        match World::new(&robot_and(object), 1) {
+            Err(WorldError::InvalidObject { name, .. }) => assert_eq!(name, "bad"),
+            Err(e) => panic!("wrong error {e}"),
+            Ok(_) => panic!("accepted {object}"),
+        }
+    }
+}

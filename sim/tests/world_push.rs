@@ -187,3 +187,68 @@ fn walking_with_the_hand_out_pushes_the_chair_along() {
         "chair tipped"
     );
 }
+
+#[test]
+fn commands_outside_the_workspace_are_refused() {
+    // Hand lines leaving x 0.2..0.8, y −0.4..0.4, z 0.2..1.2 (base_link), non-positive speeds or
+    // limits, and head angles past the joint limits are refused before anything moves.
+    use nudge_executive::robot::{Head, RobotError};
+    let s = robot_and(
+        "name = \"far\"\nkind = \"box\"\nposition = [5.0, 3.0]\nsize = [0.2, 0.2, 0.2]\nmass = 1.0\ncolour = [1, 2, 3]",
+    );
+    let mut robot = SimRobot::new(&s, 1).expect("world");
+    let ok = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.7),
+        to: Point3::new(0.8, 0.0, 0.7),
+        speed: 0.05,
+        force_limit: 20.0,
+    };
+    let bad = [
+        GuardedMove {
+            to: Point3::new(0.9, 0.0, 0.7),
+            ..ok.clone()
+        },
+        GuardedMove {
+            from: Point3::new(0.4, 0.5, 0.7),
+            ..ok.clone()
+        },
+        GuardedMove {
+            to: Point3::new(0.5, 0.0, 0.1),
+            ..ok.clone()
+        },
+        GuardedMove {
+            from: Point3::new(0.1, 0.0, 0.7),
+            ..ok.clone()
+        },
+        GuardedMove {
+            speed: 0.0,
+            ..ok.clone()
+        },
+        GuardedMove {
+            force_limit: f64::NAN,
+            ..ok.clone()
+        },
+    ];
+    for m in bad {
+        assert!(
+            matches!(
+                robot.start_guarded_move(m.clone()),
+                Err(RobotError::Refused { .. })
+            ),
+            "{m:?}"
+        );
+    }
+    assert!(matches!(
+        robot.start_point_head(2.0, 0.0),
+        Err(RobotError::Refused { .. })
+    ));
+    assert!(matches!(
+        robot.start_point_head(0.0, 1.5),
+        Err(RobotError::Refused { .. })
+    ));
+    assert_eq!(
+        robot.hand_status().expect("status"),
+        ActionStatus::Done(HandOutcome::Reached)
+    );
+    assert!(robot.start_guarded_move(ok).is_ok());
+}

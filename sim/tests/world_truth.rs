@@ -62,3 +62,41 @@ speed = 0.5
     assert_eq!(t.true_class_at(Point2::new(3.0, 2.0)), TrueClass::Moving);
     assert_eq!(t.true_class_at(Point2::new(2.0, 2.0)), TrueClass::Free);
 }
+
+#[test]
+fn a_sliding_object_is_moving_then_movable_at_rest() {
+    // A light box launched at 1 m/s is Moving while it slides and Movable once at rest.
+    use rapier3d::prelude::Vector;
+    let s = robot_and(
+        "name = \"box\"\nkind = \"box\"\nposition = [3.0, 1.8]\nsize = [0.4, 0.4, 0.3]\nmass = 2.0\nfriction = 0.4\ncolour = [1, 2, 3]",
+    );
+    let mut w = world(&s);
+    w.advance(0.3).expect("settle");
+    assert_eq!(
+        Truth::new(&w).true_class_at(Point2::new(3.0, 1.8)),
+        TrueClass::Movable
+    );
+    let body = w.objects()[0].1;
+    w.physics_mut()
+        .bodies
+        .get_mut(body)
+        .expect("box")
+        .set_linvel(Vector::new(1.0, 0.0, 0.0), true);
+    w.advance(0.05).expect("slide");
+    let x = w.object_pose(0).expect("box").translation.x;
+    assert_eq!(
+        Truth::new(&w).true_class_at(Point2::new(x, 1.8)),
+        TrueClass::Moving
+    );
+    w.advance(2.0).expect("stop");
+    let x = w.object_pose(0).expect("box").translation.x;
+    assert_eq!(
+        Truth::new(&w).true_class_at(Point2::new(x, 1.8)),
+        TrueClass::Movable
+    );
+    assert_eq!(
+        Truth::new(&w).true_class_at(Point2::new(2.85, 1.8)),
+        TrueClass::Free,
+        "the old footprint is free"
+    );
+}

@@ -131,3 +131,20 @@ fn walking_with_the_hand_out_into_a_wall_stops_on_overload() {
     assert!(min_x > 0.6, "the body walked on to x = {min_x}");
     assert!(peak < 70.0, "peak force {peak} N");
 }
+
+#[test]
+fn walking_over_a_mat_leaves_it_in_place() {
+    // A 1 cm mat on the floor is stepped over: the walk arrives and the mat does not move.
+    let s = robot_and(
+        "name = \"mat\"\nkind = \"mat\"\nposition = [2.0, 1.8]\nsize = [0.6, 0.4, 0.01]\nmass = 0.5\ncolour = [180, 40, 40]",
+    );
+    let mut robot = SimRobot::new(&s, 1).expect("world");
+    let before = robot.world().object_pose(0).expect("mat");
+    let (outcome, _) = walk_to(&mut robot, Point2::new(3.0, 1.8), 60.0);
+    assert_eq!(outcome, WalkOutcome::Arrived);
+    let after = robot.world().object_pose(0).expect("mat");
+    assert!(
+        (after.translation.vector - before.translation.vector).norm() < 1e-3,
+        "mat moved from {before:?} to {after:?}"
+    );
+}

@@ -52,3 +52,16 @@ fn wrench_is_available_before_time_passes_and_stamped_with_the_clock() {
     assert!((later.stamp - 0.25).abs() < 1e-9, "stamp {}", later.stamp);
     assert_eq!(robot.drain_wrenches().expect("drain").len(), 250);
 }
+
+#[test]
+fn bad_time_steps_are_errors() {
+    // Negative, non-finite or absurdly long steps are refused and leave the clock where it was.
+    let s = robot_and(
+        "name = \"far\"\nkind = \"box\"\nposition = [5.0, 3.0]\nsize = [0.2, 0.2, 0.2]\nmass = 1.0\ncolour = [1, 2, 3]",
+    );
+    let mut w = world(&s);
+    for dt in [-0.1, f64::NAN, f64::INFINITY, 1.0e12] {
+        assert!(w.advance(dt).is_err(), "dt {dt}");
+    }
+    assert_eq!(w.time(), 0.0);
+}

@@ -89,7 +89,7 @@ impl Humanoid {
         {
             return Err(Refused(format!("robot spec has invalid numbers: {spec:?}")));
         }
-        if spec.height <= HEAD_HEIGHT * 0.5 {
+        if spec.height <= HEAD_HEIGHT * 0.5 || spec.height <= 2.0 * walk::STEP_OVER {
             return Err(Refused(format!("robot height {} too small", spec.height)));
         }
         let base = Isometry2::new(
@@ -108,9 +108,12 @@ impl Humanoid {
                 .pose(pose_from_iso(&base3(&base)))
                 .build(),
         );
-        let cylinder = ColliderBuilder::cylinder(spec.height as f32 / 2.0, spec.radius as f32)
+        // The body starts above the floor like the walking shape cast, so it steps over mats instead
+        // of shoving them.
+        let half = ((spec.height - walk::STEP_OVER) / 2.0) as f32;
+        let cylinder = ColliderBuilder::cylinder(half, spec.radius as f32)
             .position(Pose::from_parts(
-                Vector::new(0.0, 0.0, spec.height as f32 / 2.0),
+                Vector::new(0.0, 0.0, walk::STEP_OVER as f32 + half),
                 Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
             ))
             .collision_groups(InteractionGroups::new(

@@ -17,7 +17,7 @@ const TURN_IN_PLACE: f64 = 0.05;
 /// A waypoint counts as reached within this distance (m).
 const REACHED: f64 = 1.0e-3;
 /// Height of the cast cylinder's underside: low flat things (mats, cables) are stepped over (m).
-const STEP_OVER: f64 = 0.03;
+pub const STEP_OVER: f64 = 0.03;
 
 /// What the base is doing.
 #[derive(Clone, Debug, PartialEq)]

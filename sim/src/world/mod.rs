@@ -62,7 +62,7 @@ pub enum WorldError {
     /// The wrist sensor's parameters are unusable.
     #[error(transparent)]
     WristSensor(#[from] WristFtError),
-    /// A time step was negative or not finite.
+    /// A time step was negative, not finite, or longer than a million seconds.
     #[error("invalid time step {0}")]
     InvalidStep(f64),
 }
@@ -280,7 +280,8 @@ impl World {
 
     /// Lets `dt` seconds of simulated time pass, in physics steps that suit what is going on.
     pub fn advance(&mut self, dt: f64) -> Result<(), WorldError> {
-        if !(dt.is_finite() && dt >= 0.0) {
+        // A million seconds per call is far beyond any run and keeps the µs clock from overflowing.
+        if !(dt.is_finite() && (0.0..=1.0e6).contains(&dt)) {
             return Err(WorldError::InvalidStep(dt));
         }
         let target = self.time_us + (dt * 1.0e6).round() as u64;
