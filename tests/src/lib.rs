@@ -2,6 +2,7 @@
 //! shared helpers.
 #![warn(missing_docs)]
 
+pub mod hallway;
 pub mod truth;
 
 use nudge_executive::record::Observer;
