@@ -620,6 +620,47 @@ mod tests {
     use super::*;
 
     #[test]
+    fn reused_correspondences_are_the_exact_nearest_neighbours() {
+        // Invariant: `nearest_reusing` returns the same target point as a fresh tree query, whatever
+        // correspondence it remembered, so skipping queries cannot change the ICP's result.
+        let points: Vec<Point3<f64>> = (0..900)
+            .map(|i| {
+                let (u, v) = (f64::from(i % 30), f64::from(i / 30));
+                let wobble = (f64::from(i) * 0.731).sin() * 0.002;
+                Point3::new(
+                    u * 0.01 + wobble,
+                    v * 0.008,
+                    (u * 0.2).sin() * 0.02 + wobble,
+                )
+            })
+            .collect();
+        let intensity = vec![0.5; points.len()];
+        let config = IcpConfig::default();
+        let target = prepare_target(&points, &intensity, &Point3::origin(), &config);
+        for j in 0..points.len() {
+            target.local(j);
+        }
+        for k in 0..3000u32 {
+            let f = f64::from(k);
+            let q = [
+                (0.15 + 0.16 * (f * 0.37).sin()) as f32,
+                (0.12 + 0.13 * (f * 0.53).cos()) as f32,
+                (0.02 * (f * 0.11).sin()) as f32,
+            ];
+            let fresh = target.tree.nearest(&q).expect("a non-empty tree");
+            // Remember either the true nearest, a neighbour of it, or a far point.
+            let mut last =
+                [fresh.0 as u32, (fresh.0 as u32 + 1) % 900, (k * 7) % 900][k as usize % 3];
+            let got = target.nearest_reusing(&q, &mut last, 1.0).expect("a hit");
+            assert_eq!(got.0, fresh.0, "query {k}");
+            assert!(
+                (got.1 - fresh.1).abs() <= 1e-6 * fresh.1.max(1e-9),
+                "query {k}"
+            );
+        }
+    }
+
+    #[test]
     fn closed_form_smallest_eigenvector_matches_the_iterative_solver() {
         // Invariant: the closed-form normal equals (up to sign) the iterative solver's.
         let pts = [
