@@ -22,6 +22,18 @@ fn chair_push(c: &mut Criterion) {
     );
     let guess = Isometry3::translation(0.17, 0.0, 0.0);
     let config = IcpConfig::default();
+    // `ICP_CALLS=n` runs exactly n colour-ICP calls and exits: a fixed workload for instruction
+    // counting (valgrind --tool=callgrind), which does not depend on the machine's load.
+    if let Some(n) = std::env::var("ICP_CALLS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        for _ in 0..n {
+            let r = colour_icp(black_box(&before), black_box(&after), &guess, &config);
+            black_box(r.ok());
+        }
+        std::process::exit(0);
+    }
     c.bench_function("colour ICP: chair 200 mm push", |b| {
         b.iter(|| colour_icp(black_box(&before), black_box(&after), &guess, &config))
     });

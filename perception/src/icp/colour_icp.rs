@@ -132,11 +132,23 @@ pub fn initial_from_centroids(
     ))
 }
 
+/// What the target knows around one of its points.
+struct Local {
+    normal: Vector3<f64>,
+    gradient: Vector3<f64>,
+    /// A quarter of the squared distance to the nearest other target point: a query closer than
+    /// that to this point has it as its exact nearest neighbour (see [`Target::nearest_reusing`]).
+    half_gap_sq: f32,
+}
+
+/// No correspondence remembered for a source point.
+const NONE: u32 = u32::MAX;
+
 /// The target side: points (centred), normals, intensities, colour gradients, and their k-d tree.
 struct Target {
     points: Vec<[f32; 3]>,
     intensity: Vec<f64>,
-    local: Vec<OnceLock<(Vector3<f64>, Vector3<f64>)>>,
+    local: Vec<OnceLock<Local>>,
     k: usize,
     photometric: bool,
     tree: PointTree,
@@ -192,6 +204,9 @@ pub fn colour_icp(
     let target = prepare_target(&tgt_pts, &tgt_int, &centre, config);
 
     let mut motion = to_centred * initial * to_centred.inverse();
+    // Each source point's last correspondence, for `Target::nearest_reusing`.
+    let mut coarse_last = vec![NONE; coarse.0.len()];
+    let mut fine_last = vec![NONE; fine.0.len()];
     let mut iterations = 0;
     let mut converged = false;
     for (stage, &max_dist) in config.max_correspondence.iter().enumerate() {
@@ -208,11 +223,18 @@ pub fn colour_icp(
             (&fine.0, &fine.1)
         };
         for _ in 0..config.max_iterations_per_stage {
-            let mut system = linearise(src, src_int, &target, &motion, max_dist, !planar, config);
+            let last = if planar {
+                &mut coarse_last
+            } else {
+                &mut fine_last
+            };
+            let mut system = linearise(
+                src, src_int, last, &target, &motion, max_dist, !planar, config,
+            );
             if planar && config.photometric && planar_geometry_is_degenerate(&system.jtj, config) {
                 // Geometry cannot hold the floor-plane translation (a flat face): colour must drive
                 // the coarse stages too, or the coarse alignment drifts on noise and window edges.
-                system = linearise(src, src_int, &target, &motion, max_dist, true, config);
+                system = linearise(src, src_int, last, &target, &motion, max_dist, true, config);
             }
             if system.count < config.min_correspondences {
                 if stage == 0 && iterations == 0 {
@@ -239,7 +261,7 @@ pub fn colour_icp(
         }
     }
     let final_dist = config.max_correspondence.last().copied().unwrap_or(0.05);
-    let (fitness, rmse) = quality(&fine.0, &target, &motion, final_dist);
+    let (fitness, rmse) = quality(&fine.0, &mut fine_last, &target, &motion, final_dist);
     let map_motion = to_centred.inverse() * motion * to_centred;
     Ok(IcpResult::from_motion(
         map_motion, &centre, fitness, rmse, iterations, converged,
@@ -292,9 +314,30 @@ fn prepare_target(
 }
 
 impl Target {
-    /// (normal, colour gradient) of target point `i`.
-    fn local(&self, i: usize) -> &(Vector3<f64>, Vector3<f64>) {
+    /// Normal, colour gradient and nearest-point gap of target point `i`.
+    fn local(&self, i: usize) -> &Local {
         self.local[i].get_or_init(|| self.compute_local(i))
+    }
+
+    /// The nearest target point to `q` (index, squared distance), skipping the tree query when the
+    /// source point's previous correspondence `*last` provably still is the nearest: if
+    /// |q − t_j| < r_j / 2, with r_j the distance from t_j to its nearest other target point, every
+    /// other point is farther than r_j / 2 (triangle inequality). Between Gauss–Newton iterations a
+    /// point moves far less than the sampling gap, so most queries are answered this way. The answer
+    /// is the exact nearest neighbour either way (the margin below keeps f32 rounding from flipping a
+    /// near-tie), so the result does not depend on which path was taken.
+    fn nearest_reusing(&self, q: &[f32; 3], last: &mut u32, max_sq: f32) -> Option<(usize, f32)> {
+        let j = *last as usize;
+        if let Some(local) = self.local.get(j).and_then(OnceLock::get) {
+            let t = self.points[j];
+            let d2 = (q[0] - t[0]).powi(2) + (q[1] - t[1]).powi(2) + (q[2] - t[2]).powi(2);
+            if d2 < 0.96 * local.half_gap_sq && d2 < 0.99 * max_sq {
+                return Some((j, d2));
+            }
+        }
+        let hit = self.tree.nearest(q)?;
+        *last = u32::try_from(hit.0).unwrap_or(NONE);
+        Some(hit)
     }
 
     fn at(&self, j: usize) -> Vector3<f64> {
@@ -302,8 +345,18 @@ impl Target {
         Vector3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
     }
 
-    fn compute_local(&self, i: usize) -> (Vector3<f64>, Vector3<f64>) {
+    fn compute_local(&self, i: usize) -> Local {
         let nn = self.tree.nearest_k(&self.points[i], self.k);
+        let gap_sq = nn
+            .iter()
+            .filter(|&&(j, _)| j != i)
+            .map(|&(_, d2)| d2)
+            .fold(f32::INFINITY, f32::min);
+        let half_gap_sq = if gap_sq.is_finite() {
+            gap_sq / 4.0
+        } else {
+            0.0
+        };
         let here = self.at(i);
         let mean: Vector3<f64> =
             nn.iter().map(|&(j, _)| self.at(j)).sum::<Vector3<f64>>() / nn.len().max(1) as f64;
@@ -333,7 +386,11 @@ impl Target {
         } else {
             Vector3::zeros()
         };
-        (normal, gradient)
+        Local {
+            normal,
+            gradient,
+            half_gap_sq,
+        }
     }
 }
 
@@ -398,9 +455,11 @@ struct System {
 
 const CHUNK: usize = 256;
 
+#[allow(clippy::too_many_arguments)]
 fn linearise(
     src: &[Vector3<f64>],
     src_int: &[f64],
+    last: &mut [u32],
     target: &Target,
     motion: &Isometry3<f64>,
     max_dist: f64,
@@ -417,18 +476,19 @@ fn linearise(
     let shift = motion.translation.vector;
     let partial: Vec<System> = src
         .par_chunks(CHUNK)
+        .zip(last.par_chunks_mut(CHUNK))
         .enumerate()
-        .map(|(c, chunk)| {
+        .map(|(c, (chunk, last))| {
             let mut s = System {
                 jtj: Matrix6::zeros(),
                 jtr: Vector6::zeros(),
                 count: 0,
             };
-            for (o, p) in chunk.iter().enumerate() {
+            for (o, (p, last)) in chunk.iter().zip(last.iter_mut()).enumerate() {
                 let i = c * CHUNK + o;
                 let ps = Point3::from(rot * p + shift);
                 let q32 = [ps.x as f32, ps.y as f32, ps.z as f32];
-                let Some((j, d2)) = target.tree.nearest(&q32) else {
+                let Some((j, d2)) = target.nearest_reusing(&q32, last, max_sq) else {
                     continue;
                 };
                 if d2 > max_sq {
@@ -436,7 +496,8 @@ fn linearise(
                 }
                 let t = target.points[j];
                 let vt = Vector3::new(f64::from(t[0]), f64::from(t[1]), f64::from(t[2]));
-                let (n, d) = *target.local(j);
+                let local = target.local(j);
+                let (n, d) = (local.normal, local.gradient);
                 let vs = ps.coords;
                 let diff = vs - vt;
                 // Geometric: point-to-plane.
@@ -527,6 +588,7 @@ fn solve(
 
 fn quality(
     src: &[Vector3<f64>],
+    last: &mut [u32],
     target: &Target,
     motion: &Isometry3<f64>,
     max_dist: f64,
@@ -534,13 +596,13 @@ fn quality(
     let max_sq = (max_dist * max_dist) as f32;
     let hits: Vec<Option<f32>> = src
         .par_iter()
+        .zip(last.par_iter_mut())
         .with_min_len(CHUNK)
-        .map(|p| {
+        .map(|(p, last)| {
             let ps = motion * Point3::from(*p);
             let q = [ps.x as f32, ps.y as f32, ps.z as f32];
             target
-                .tree
-                .nearest(&q)
+                .nearest_reusing(&q, last, max_sq)
                 .and_then(|(_, d2)| (d2 <= max_sq).then_some(d2))
         })
         .collect();
@@ -556,6 +618,47 @@ fn quality(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reused_correspondences_are_the_exact_nearest_neighbours() {
+        // Invariant: `nearest_reusing` returns the same target point as a fresh tree query, whatever
+        // correspondence it remembered, so skipping queries cannot change the ICP's result.
+        let points: Vec<Point3<f64>> = (0..900)
+            .map(|i| {
+                let (u, v) = (f64::from(i % 30), f64::from(i / 30));
+                let wobble = (f64::from(i) * 0.731).sin() * 0.002;
+                Point3::new(
+                    u * 0.01 + wobble,
+                    v * 0.008,
+                    (u * 0.2).sin() * 0.02 + wobble,
+                )
+            })
+            .collect();
+        let intensity = vec![0.5; points.len()];
+        let config = IcpConfig::default();
+        let target = prepare_target(&points, &intensity, &Point3::origin(), &config);
+        for j in 0..points.len() {
+            target.local(j);
+        }
+        for k in 0..3000u32 {
+            let f = f64::from(k);
+            let q = [
+                (0.15 + 0.16 * (f * 0.37).sin()) as f32,
+                (0.12 + 0.13 * (f * 0.53).cos()) as f32,
+                (0.02 * (f * 0.11).sin()) as f32,
+            ];
+            let fresh = target.tree.nearest(&q).expect("a non-empty tree");
+            // Remember either the true nearest, a neighbour of it, or a far point.
+            let mut last =
+                [fresh.0 as u32, (fresh.0 as u32 + 1) % 900, (k * 7) % 900][k as usize % 3];
+            let got = target.nearest_reusing(&q, &mut last, 1.0).expect("a hit");
+            assert_eq!(got.0, fresh.0, "query {k}");
+            assert!(
+                (got.1 - fresh.1).abs() <= 1e-6 * fresh.1.max(1e-9),
+                "query {k}"
+            );
+        }
+    }
 
     #[test]
     fn closed_form_smallest_eigenvector_matches_the_iterative_solver() {

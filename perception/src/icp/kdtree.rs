@@ -2,11 +2,18 @@
 
 use std::num::NonZeroUsize;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::{Eytzinger, KdTree, SquaredEuclidean, VecOfArenas};
+
+/// Points per leaf. kiddo's default (32) suits large trees; the ICP's target has a few thousand
+/// points and every nearest-neighbour query scans whole leaves, so smaller leaves scan less.
+const BUCKET: usize = 16;
+
+/// kiddo's immutable tree layout with smaller leaves.
+type Tree = KdTree<f32, u32, Eytzinger, VecOfArenas<f32, u32, 3, BUCKET>, 3, BUCKET>;
 
 /// An immutable k-d tree over 3-D points (indices are positions in the slice it was built from).
 pub struct PointTree {
-    tree: Option<ImmutableKdTree<f32, 3>>,
+    tree: Option<Tree>,
     len: usize,
 }
 
@@ -17,7 +24,7 @@ impl PointTree {
         let tree = if points.is_empty() {
             None
         } else {
-            ImmutableKdTree::new_from_slice(points).ok()
+            Tree::new_from_slice(points).ok()
         };
         Self {
             tree,
