@@ -2,7 +2,9 @@
 //! crate's dual RRT-Connect on the same worlds, the same disc checks and seeded sampling.
 //!
 //! Before criterion runs, every planner solves 200 seeds once and the median / p90 / success are
-//! printed (criterion reports means per iteration, not percentiles). Timing is printed, never asserted.
+//! printed (criterion reports means per iteration, not percentiles), and for nudge's RRT-Connect
+//! (with and without bridge samples) the median / p90 iterations and checks, which do not depend on
+//! the machine's load. Timing is printed, never asserted.
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -13,6 +15,8 @@ use std::time::Instant;
 
 use criterion::{Criterion, criterion_group};
 use nalgebra::Point2;
+use nudge_motion::planner::Effort;
+use nudge_motion::planner::sampler::Sampling;
 use nudge_motion::{Budget, Planner, Problem, Rrt, RrtConnect, Shortcut, StateValidity, Validity};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -36,6 +40,50 @@ fn ours(world: &World, seed: u64, shortcut: bool) -> Option<f64> {
         path
     };
     Some(path.length())
+}
+
+/// RRT-Connect with uniform samples only (the sampler before bridge tests), for comparison.
+fn uniform_only() -> RrtConnect {
+    RrtConnect {
+        sampling: Sampling {
+            bridge_attempts: 0,
+            ..Sampling::default()
+        },
+        ..RrtConnect::default()
+    }
+}
+
+fn ours_uniform(world: &World, seed: u64) -> Option<f64> {
+    let (v, p) = world;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let path = uniform_only()
+        .solve(p, v, Budget::iterations(200_000), &mut rng)
+        .ok()?;
+    Some(path.length())
+}
+
+/// Work per solve, independent of the machine's load: median / p90 iterations and checks.
+fn effort(name: &str, planner: &RrtConnect, world: &World) {
+    let (v, p) = world;
+    let mut runs: Vec<Effort> = (0..SEEDS)
+        .map(|seed| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            planner
+                .solve_with_effort(p, v, Budget::iterations(200_000), &mut rng)
+                .1
+        })
+        .collect();
+    let mut quantiles = |key: fn(&Effort) -> usize| {
+        runs.sort_by_key(key);
+        let at = |q: f64| key(&runs[((runs.len() as f64 - 1.0) * q).round() as usize]);
+        format!("{:6} / {:6}", at(0.5), at(0.9))
+    };
+    println!(
+        "{name:<32} median / p90: iterations {}  motion checks {}  point checks {}",
+        quantiles(|e| e.iterations),
+        quantiles(|e| e.motion_checks),
+        quantiles(|e| e.point_checks),
+    );
 }
 
 fn ours_rrt(world: &World, seed: u64) -> Option<f64> {
@@ -126,6 +174,19 @@ fn print_percentiles() {
         percentiles(&format!("{name} nudge rrt-connect"), |s| {
             ours(&world, s, false)
         });
+        percentiles(&format!("{name} nudge rrt-connect (uniform)"), |s| {
+            ours_uniform(&world, s)
+        });
+        effort(
+            &format!("{name} nudge rrt-connect"),
+            &RrtConnect::default(),
+            &world,
+        );
+        effort(
+            &format!("{name} nudge rrt-connect (uniform)"),
+            &uniform_only(),
+            &world,
+        );
         percentiles(&format!("{name} nudge rrt-connect+shortcut"), |s| {
             ours(&world, s, true)
         });

@@ -16,6 +16,7 @@ use crate::validity::StateValidity;
 pub mod nearest;
 pub mod rrt;
 pub mod rrt_connect;
+pub mod sampler;
 pub mod shortcut;
 
 /// How much work a planner may do: a deterministic stand-in for planning time.
@@ -96,10 +97,22 @@ pub(crate) fn free_goal(
         .ok_or(NoPath::GoalInCollision)
 }
 
+/// The work one solve took, counted rather than timed so that it does not depend on the machine's load.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Effort {
+    /// Tree-growing iterations (samples drawn).
+    pub iterations: usize,
+    /// Motion (swept-disc) checks.
+    pub motion_checks: usize,
+    /// Point (disc) checks made while sampling.
+    pub point_checks: usize,
+}
+
 /// A validity checker that counts motion checks against a budget.
 pub(crate) struct Metered<'a> {
     inner: &'a dyn StateValidity,
     checks: Cell<usize>,
+    point_checks: Cell<usize>,
     limit: usize,
 }
 
@@ -108,6 +121,7 @@ impl<'a> Metered<'a> {
         Self {
             inner,
             checks: Cell::new(0),
+            point_checks: Cell::new(0),
             limit: budget.max_motion_checks.unwrap_or(usize::MAX),
         }
     }
@@ -120,6 +134,26 @@ impl<'a> Metered<'a> {
         }
         self.checks.set(n + 1);
         Some(self.inner.motion_free(a, b))
+    }
+
+    /// Whether the robot at `p` is free; point checks are counted, never limited (they are cheap).
+    pub(crate) fn is_free(&self, p: &Point2<f64>) -> bool {
+        self.point_checks.set(self.point_checks.get() + 1);
+        self.inner.is_free(p)
+    }
+
+    /// The work done so far, after `iterations` iterations.
+    pub(crate) fn effort(&self, iterations: usize) -> Effort {
+        Effort {
+            iterations,
+            motion_checks: self.checks.get(),
+            point_checks: self.point_checks.get(),
+        }
+    }
+
+    /// The checker being metered.
+    pub(crate) fn inner(&self) -> &'a dyn StateValidity {
+        self.inner
     }
 
     pub(crate) fn bounds(&self) -> &Bounds {

@@ -1,10 +1,13 @@
 //! RRT-Connect (Kuffner & LaValle 2000): two trees, one from the start and one from the goal; each
-//! iteration the smaller tree takes a step toward a random sample and the other greedily connects to it.
+//! iteration the smaller tree takes a step toward a sample and the other greedily connects to it.
+//! Samples are uniform, except that a blocked step may be followed by a bridge-test sample near where
+//! it was blocked ([`Sampling`]): that is what finds narrow passages.
 
 use nalgebra::Point2;
 use rand_chacha::ChaCha8Rng;
 
-use super::{Budget, Metered, NoPath, Planner, Tree, free_goal, steer};
+use super::sampler::Sampling;
+use super::{Budget, Effort, Metered, NoPath, Planner, Tree, free_goal, steer};
 use crate::path::Path;
 use crate::problem::Problem;
 use crate::validity::StateValidity;
@@ -14,11 +17,16 @@ use crate::validity::StateValidity;
 pub struct RrtConnect {
     /// Longest edge added in one step (m).
     pub range: f64,
+    /// How samples are drawn (uniform mixed with bridge-test samples).
+    pub sampling: Sampling,
 }
 
 impl Default for RrtConnect {
     fn default() -> Self {
-        Self { range: 0.5 }
+        Self {
+            range: 0.5,
+            sampling: Sampling::default(),
+        }
     }
 }
 
@@ -117,7 +125,34 @@ impl Planner for RrtConnect {
         budget: Budget,
         rng: &mut ChaCha8Rng,
     ) -> Result<Path, NoPath> {
-        let goal = free_goal(problem, validity, rng)?;
+        self.solve_with_effort(problem, validity, budget, rng).0
+    }
+}
+
+impl RrtConnect {
+    /// [`Planner::solve`], also returning the work it took (iterations and checks).
+    pub fn solve_with_effort(
+        &self,
+        problem: &Problem,
+        validity: &dyn StateValidity,
+        budget: Budget,
+        rng: &mut ChaCha8Rng,
+    ) -> (Result<Path, NoPath>, Effort) {
+        let metered = Metered::new(validity, &budget);
+        let mut iterations = 0;
+        let out = self.grow(problem, &metered, budget, rng, &mut iterations);
+        (out, metered.effort(iterations))
+    }
+
+    fn grow(
+        &self,
+        problem: &Problem,
+        metered: &Metered,
+        budget: Budget,
+        rng: &mut ChaCha8Rng,
+        iterations: &mut usize,
+    ) -> Result<Path, NoPath> {
+        let goal = free_goal(problem, metered.inner(), rng)?;
         let start = problem.start();
         if problem.goal().contains(&start) {
             return Path::new(vec![start]).map_err(|_| NoPath::StartInCollision);
@@ -127,23 +162,30 @@ impl Planner for RrtConnect {
         } else {
             0.5
         };
-        let metered = Metered::new(validity, &budget);
         let mut trees = [
             Tree::new(start, metered.bounds()),
             Tree::new(goal, metered.bounds()),
         ];
         // trees[a] grows toward the sample; trees[1 - a] connects.
         let mut a = 0;
+        let mut pending = None;
         for iteration in 0..budget.max_iterations {
+            *iterations = iteration + 1;
             let out = NoPath::NotFound {
                 iterations: iteration,
             };
-            let sample = metered.bounds().sample(rng);
+            let sample = match pending.take() {
+                Some(p) => p,
+                None => self.sampling.uniform(metered, rng),
+            };
             let near = trees[a].nearest(&sample);
-            let new = match extend(&mut trees[a], near, &sample, range, &metered) {
+            let new = match extend(&mut trees[a], near, &sample, range, metered) {
                 Grow::OutOfChecks => return Err(out),
                 Grow::Trapped => {
-                    a = smaller(&trees);
+                    // No tree changed, so trees[a] stays the smaller one and the bridge found
+                    // near where it was blocked (if any) is its next sample.
+                    let blocked = steer(&trees[a].point(near), &sample, range);
+                    pending = self.sampling.bridge_near(&blocked, metered, rng);
                     continue;
                 }
                 Grow::Reached(i) | Grow::Advanced(i) => i,
@@ -151,7 +193,7 @@ impl Planner for RrtConnect {
             let target = trees[a].point(new);
             let b = 1 - a;
             let near_b = trees[b].nearest(&target);
-            match connect(&mut trees[b], near_b, &target, range, &metered) {
+            match connect(&mut trees[b], near_b, &target, range, metered) {
                 Grow::OutOfChecks => return Err(out),
                 Grow::Trapped | Grow::Advanced(_) => {}
                 Grow::Reached(i) => {
