@@ -141,3 +141,68 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
         self.1.note(stamp, level, text);
     }
 }
+
+/// An observer that may be absent (`--record` not given): forwards to the inner one when present.
+impl<O: Observer> Observer for Option<O> {
+    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {
+        if let Some(o) = self {
+            o.transition(stamp, from, edge, to);
+        }
+    }
+    fn verdict(
+        &mut self,
+        stamp: f64,
+        object: ObjectId,
+        verdict: &Verdict,
+        evidence: &PushEvidence,
+    ) {
+        if let Some(o) = self {
+            o.verdict(stamp, object, verdict, evidence);
+        }
+    }
+    fn cloud(&mut self, cloud: &ColourCloud) {
+        if let Some(o) = self {
+            o.cloud(cloud);
+        }
+    }
+    fn prisms(&mut self, stamp: f64, prisms: &[Prism]) {
+        if let Some(o) = self {
+            o.prisms(stamp, prisms);
+        }
+    }
+    fn grid(&mut self, stamp: f64, grid: &GridView<'_>) {
+        if let Some(o) = self {
+            o.grid(stamp, grid);
+        }
+    }
+    fn tree(&mut self, stamp: f64, edges: &[[Point2<f64>; 2]]) {
+        if let Some(o) = self {
+            o.tree(stamp, edges);
+        }
+    }
+    fn path(&mut self, stamp: f64, waypoints: &[Point2<f64>]) {
+        if let Some(o) = self {
+            o.path(stamp, waypoints);
+        }
+    }
+    fn push(&mut self, stamp: f64, intent: &PushIntent, force: Option<Vector2<f64>>) {
+        if let Some(o) = self {
+            o.push(stamp, intent, force);
+        }
+    }
+    fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
+        if let Some(o) = self {
+            o.frames(stamp, frames);
+        }
+    }
+    fn wrench(&mut self, stamp: f64, wrench: &Wrench) {
+        if let Some(o) = self {
+            o.wrench(stamp, wrench);
+        }
+    }
+    fn note(&mut self, stamp: f64, level: LogLevel, text: &str) {
+        if let Some(o) = self {
+            o.note(stamp, level, text);
+        }
+    }
+}

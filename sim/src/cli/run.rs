@@ -5,70 +5,13 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::Context;
-use nudge_executive::record::{McapRecorder, NullObserver, Observer, RunInfo};
+use nudge_executive::record::{McapRecorder, RunInfo};
 use nudge_executive::{CandidatePolicy, RunReport, State};
 use nudge_sim::run::runner;
 use nudge_sim::scenario::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML, Scenario};
 
 use super::timeline::{TimelinePrinter, verdict_word};
 use super::{EXIT_ABORTED, EXIT_NO_PATH, RunArgs};
-
-/// A recorder when `--record` was given, nothing otherwise.
-enum MaybeRecorder {
-    Off(NullObserver),
-    On(Box<McapRecorder>),
-}
-
-impl Observer for MaybeRecorder {
-    fn transition(&mut self, t: f64, from: &State, e: nudge_executive::Edge, to: &State) {
-        self.inner().transition(t, from, e, to);
-    }
-    fn verdict(
-        &mut self,
-        t: f64,
-        o: nudge_perception::ObjectId,
-        v: &nudge_executive::Verdict,
-        e: &nudge_executive::PushEvidence,
-    ) {
-        self.inner().verdict(t, o, v, e);
-    }
-    fn cloud(&mut self, c: &nudge_perception::ColourCloud) {
-        self.inner().cloud(c);
-    }
-    fn prisms(&mut self, t: f64, p: &[nudge_perception::Prism]) {
-        self.inner().prisms(t, p);
-    }
-    fn grid(&mut self, t: f64, g: &nudge_executive::record::GridView<'_>) {
-        self.inner().grid(t, g);
-    }
-    fn tree(&mut self, t: f64, e: &[[nalgebra::Point2<f64>; 2]]) {
-        self.inner().tree(t, e);
-    }
-    fn path(&mut self, t: f64, w: &[nalgebra::Point2<f64>]) {
-        self.inner().path(t, w);
-    }
-    fn push(&mut self, t: f64, i: &nudge_executive::PushIntent, f: Option<nalgebra::Vector2<f64>>) {
-        self.inner().push(t, i, f);
-    }
-    fn frames(&mut self, t: f64, f: &nudge_executive::record::RobotFrames) {
-        self.inner().frames(t, f);
-    }
-    fn wrench(&mut self, t: f64, w: &nudge_executive::robot::Wrench) {
-        self.inner().wrench(t, w);
-    }
-    fn note(&mut self, t: f64, l: nudge_executive::record::LogLevel, s: &str) {
-        self.inner().note(t, l, s);
-    }
-}
-
-impl MaybeRecorder {
-    fn inner(&mut self) -> &mut dyn Observer {
-        match self {
-            MaybeRecorder::Off(n) => n,
-            MaybeRecorder::On(r) => r.as_mut(),
-        }
-    }
-}
 
 pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let (scenario, file_name, text) = match &args.scenario {
@@ -99,9 +42,9 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
                 policy: format!("{policy:?}").to_lowercase(),
                 scenario_file: Some((file_name.clone(), text)),
             };
-            MaybeRecorder::On(Box::new(McapRecorder::create(path, &info)?))
+            Some(McapRecorder::create(path, &info)?)
         }
-        None => MaybeRecorder::Off(NullObserver),
+        None => None,
     };
     println!(
         "nudge: {} ({file_name}), seed {seed}, policy {policy:?}",
@@ -119,7 +62,7 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let report = runner.run();
     let wall = started.elapsed().as_secs_f64();
     let (_, (_, recorder)) = runner.into_parts();
-    if let (MaybeRecorder::On(recorder), Some(path)) = (recorder, &args.record) {
+    if let (Some(recorder), Some(path)) = (recorder, &args.record) {
         match recorder.finish() {
             Ok(_) => println!("recording: {}", path.display()),
             Err(e) => eprintln!("nudge: recording {} is incomplete: {e}", path.display()),
