@@ -103,23 +103,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.start_time = self.robot.now();
         let mut timeline = Vec::new();
         let mut step = start();
-        let mut state = State::LookAround;
         self.record(&mut timeline, &State::LookAround, &step);
-        loop {
-            let event = self.execute(&step.commands, &step.knowledge);
-            let Some(event) = event else {
+        while !step.state.is_terminal() {
+            let Some(event) = self.execute(&step.commands) else {
                 break;
             };
-            state.clone_from(&step.state);
-            let next = transition(&state, &step.knowledge, &event, &self.config.executive);
-            self.record(&mut timeline, &state, &next);
+            let next = transition(&step.state, &step.knowledge, &event, &self.config.executive);
+            self.record(&mut timeline, &step.state, &next);
             self.report_verdicts(&step.knowledge, &next.knowledge, &event);
             step = next;
-            if step.state.is_terminal() {
-                break;
-            }
         }
-        let _ = state;
         RunReport {
             outcome: step.state,
             knowledge: step.knowledge,
@@ -154,10 +147,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Executes a step's commands in order; the last one that reports an event ends the step.
-    fn execute(&mut self, commands: &[Command], knowledge: &Knowledge) -> Option<Event> {
+    fn execute(&mut self, commands: &[Command]) -> Option<Event> {
         let mut event = None;
         for command in commands {
-            if let Some(e) = self.execute_one(command, knowledge) {
+            if let Some(e) = self.execute_one(command) {
                 event = Some(e);
             }
         }
@@ -172,7 +165,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         event
     }
 
-    fn execute_one(&mut self, command: &Command, knowledge: &Knowledge) -> Option<Event> {
+    fn execute_one(&mut self, command: &Command) -> Option<Event> {
         if self.cancel.load(Ordering::Relaxed) && !matches!(command, Command::SafeStop) {
             return Some(Event::Cancel);
         }
@@ -199,7 +192,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     LogLevel::Info,
                     &format!("{target} marked {verdict:?}"),
                 );
-                let _ = knowledge;
                 None
             }
             Command::ClearPath(intent) => Some(self.clear_path(intent)),
