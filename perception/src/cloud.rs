@@ -244,20 +244,7 @@ impl ColourCloud {
         stamp: f64,
     ) -> Option<Self> {
         let n = x.len();
-        if y.len() != n || z.len() != n || rgb.len() != n {
-            return None;
-        }
-        Some(Self {
-            width: n,
-            height: 1,
-            x,
-            y,
-            z,
-            rgb,
-            frame,
-            sensor_pose,
-            stamp,
-        })
+        Self::organised(n, 1, x, y, z, rgb, frame, sensor_pose, stamp).ok()
     }
 
     /// Appends every slot of `other` (coordinates taken as they are; the caller keeps frames consistent).

@@ -17,7 +17,7 @@ pub(crate) fn camera_pose(base: &Isometry2<f64>, head: (f64, f64)) -> Isometry3<
     )
 }
 
-/// Nominal camera height for frames drawn before the first capture (m).
+/// Nominal camera height for the frames reported to observers (m).
 const HEAD_HEIGHT: f64 = 1.4;
 
 impl<R: Robot, O: Observer> Runner<R, O> {
@@ -37,7 +37,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .start_point_head(view.pan_deg.to_radians(), view.tilt_deg.to_radians())?;
             self.wait(|r| r.head_status())?;
             let cloud = self.robot.capture()?;
-            self.world.camera = Some(*cloud.sensor_pose());
             self.observer.cloud(&cloud);
             self.world.views.push(cloud);
         }

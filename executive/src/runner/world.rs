@@ -22,8 +22,6 @@ pub(crate) struct WorldModel {
     pub seen: Option<(Point2<f64>, Point2<f64>)>,
     /// The floor learnt at the first look (the floor does not change).
     pub floor: Option<FloorModel>,
-    /// Where the camera was at the latest capture.
-    pub camera: Option<Isometry3<f64>>,
 }
 
 /// Points higher than this are ignored when growing the seen box (m): ceilings, not rooms.
@@ -107,9 +105,12 @@ impl WorldModel {
         let radius = config.robot.radius;
         self.prisms.retain(|p| !prism_covers_disc(p, robot, radius));
         let seen_floor = |old: &Prism, new: Option<&Prism>| {
+            // A box test first: most of the look's floor points lie far from any one obstacle.
+            let (lo, hi) = footprint_box(old);
             floor_points
                 .iter_valid()
                 .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
+                .filter(|q| q.x >= lo.x && q.y >= lo.y && q.x <= hi.x && q.y <= hi.y)
                 .filter(|q| old.contains_xy(q) && !new.is_some_and(|n| n.contains_xy(q)))
                 .take(config.forget_after_floor_points)
                 .count()
@@ -166,4 +167,17 @@ impl WorldModel {
 fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
     let inner = radius * 0.5;
     prism.contains_xy(centre) || prism.footprint.iter().any(|v| (v - centre).norm() < inner)
+}
+
+/// Corners of the box around `prism`'s footprint.
+fn footprint_box(prism: &Prism) -> (Point2<f64>, Point2<f64>) {
+    let first = prism
+        .footprint
+        .first()
+        .copied()
+        .unwrap_or_else(Point2::origin);
+    prism
+        .footprint
+        .iter()
+        .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
 }
