@@ -10,6 +10,7 @@ pub mod adapter;
 pub mod humanoid;
 pub mod run;
 pub mod scenario;
+pub mod score;
 pub mod sensors;
 pub mod surface;
 pub mod truth;

@@ -20,6 +20,7 @@ use nudge_perception::{ColourCloud, ObjectId, Prism};
 
 use super::messages;
 use super::observer::{GridView, LogLevel, Observer, RobotFrames};
+use super::summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
 use crate::machine::Edge;
 use crate::push_test::{PushEvidence, PushIntent, Verdict};
 use crate::robot::Wrench;
@@ -118,7 +119,7 @@ impl<W: Write + Seek> McapRecorder<W> {
         metadata.insert("version".to_string(), info.version.clone());
         metadata.insert("policy".to_string(), info.policy.clone());
         writer.write_metadata(&Metadata {
-            name: "nudge-run".into(),
+            name: RUN_METADATA.into(),
             metadata,
         })?;
         if let Some((name, text)) = &info.scenario_file {
@@ -143,7 +144,24 @@ impl<W: Write + Seek> McapRecorder<W> {
         self.error.as_ref()
     }
 
-    /// Writes the summary and footer and returns the sink.
+    /// Writes the run's summary: a last `foxglove.Log` line on [`topics::LOG`] (name
+    /// [`RUN_SUMMARY_LOG`]) at `stamp`, and a metadata record named [`SUMMARY_METADATA`].
+    /// Call it once, after the run and before [`McapRecorder::finish`].
+    pub fn write_summary(&mut self, stamp: f64, summary: &RunSummary) {
+        self.log(stamp, Level::Info, RUN_SUMMARY_LOG, summary.line());
+        let Some(writer) = self.writer.as_mut() else {
+            return;
+        };
+        let result = writer.write_metadata(&Metadata {
+            name: SUMMARY_METADATA.into(),
+            metadata: summary.entries(),
+        });
+        if let Err(e) = result {
+            self.fail(e.into());
+        }
+    }
+
+    /// Writes the summary section and footer and returns the sink.
     pub fn finish(mut self) -> Result<W, RecordError> {
         if let Some(e) = self.error.take() {
             return Err(e);

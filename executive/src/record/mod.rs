@@ -3,6 +3,8 @@
 mod mcap_recorder;
 mod messages;
 mod observer;
+mod summary;
 
 pub use mcap_recorder::{McapRecorder, RecordError, RunInfo, topics};
 pub use observer::{GridView, LogLevel, NullObserver, Observer, RobotFrames};
+pub use summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};

@@ -1,20 +1,30 @@
-//! Command-line interface: `nudge run`.
+//! Command-line interface: `nudge run`, `check`, `batch`, `report` and `inspect`.
 
+mod batch;
+mod check;
+mod inspect;
+mod pool;
+mod report;
+mod results;
 mod run;
+mod source;
 mod timeline;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::str::FromStr;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use nudge_executive::CandidatePolicy;
 
-/// Exit code: bad input (files, flags).
+/// Exit code: bad input (files, scenarios, recordings) or a run that could not be set up.
 pub const EXIT_INPUT: u8 = 1;
 /// Exit code: the run ended in NoPathToGoal.
 pub const EXIT_NO_PATH: u8 = 3;
-/// Exit code: the run was aborted (robot failure, limit, Ctrl-C).
+/// Exit code: the run was aborted (robot failure, limit, Ctrl-C), or a batch was cancelled.
 pub const EXIT_ABORTED: u8 = 4;
+/// Exit code: `nudge check` found a scenario that did not meet its `[expect]` block.
+pub const EXIT_FAILED: u8 = 5;
 
 /// nudge: a humanoid reaches a goal among unknown obstacles, pushing them to learn which move.
 #[derive(Parser, Debug)]
@@ -28,12 +38,21 @@ pub struct Cli {
 enum Command {
     /// Run one scenario (the paper's room when none is given) and print its timeline and summary.
     Run(RunArgs),
+    /// Run scenarios and compare each with its [expect] block; exit 5 when any differs.
+    Check(CheckArgs),
+    /// Run every scenario of a folder with many seeds in parallel; one JSON line per run.
+    Batch(BatchArgs),
+    /// Merge result files of `nudge batch` (e.g. its shards) and print the summary table.
+    Report(ReportArgs),
+    /// Show what an MCAP recording holds: topics, counts, time span, metadata, the run's summary.
+    Inspect(InspectArgs),
 }
 
 /// Candidate policy as typed on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 enum Policy {
     /// The obstacle nearest the robot first (the paper's rule).
+    #[default]
     Nearest,
     /// The obstacle whose removal opens the cheapest path first.
     Blocking,
@@ -46,6 +65,19 @@ impl From<Policy> for CandidatePolicy {
             Policy::Blocking => CandidatePolicy::Blocking,
         }
     }
+}
+
+/// The policy's name as the command line and result lines spell it.
+fn policy_word(p: CandidatePolicy) -> &'static str {
+    match p {
+        CandidatePolicy::Nearest => "nearest",
+        CandidatePolicy::Blocking => "blocking",
+    }
+}
+
+/// Worker threads when `--jobs` is not given: one per core.
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 #[derive(clap::Args, Debug, Default)]
@@ -61,15 +93,139 @@ struct RunArgs {
     /// Record the run to this MCAP file (open it in Foxglove).
     #[arg(long, value_name = "FILE.mcap")]
     record: Option<PathBuf>,
+    /// Draw the run top-down into this PNG, with a force-over-time panel per push test.
+    #[arg(long, value_name = "FILE.png")]
+    map: Option<PathBuf>,
     /// Print only the summary, not the timeline.
     #[arg(long)]
     quiet: bool,
+}
+
+#[derive(clap::Args, Debug)]
+struct CheckArgs {
+    /// Scenario files, or folders (every *.toml in them, sorted by name).
+    #[arg(required = true, value_name = "SCENARIO_OR_DIR")]
+    scenarios: Vec<PathBuf>,
+    /// Seed of every run; each scenario's own seed when omitted.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Candidate policy.
+    #[arg(long, value_enum, default_value = "nearest")]
+    policy: Policy,
+    /// Runs at once (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(usize))]
+    jobs: Option<usize>,
+}
+
+#[derive(clap::Args, Debug)]
+struct BatchArgs {
+    /// Folder of scenarios (every *.toml, sorted by name), or scenario files.
+    #[arg(required = true, value_name = "DIR")]
+    scenarios: Vec<PathBuf>,
+    /// Seeds per scenario and policy: offset k runs with the scenario's seed + k, k = 0..N.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Runs at once (default: one per core).
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(usize))]
+    jobs: Option<usize>,
+    /// Result file, one JSON line per run (default results.jsonl, or results.shard-I-of-N.jsonl).
+    #[arg(long, value_name = "FILE.jsonl")]
+    out: Option<PathBuf>,
+    /// Run only this shard: runs whose index mod N is I (for Slurm or Kubernetes job arrays).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Candidate policies, comma-separated; each scenario and seed runs with every one.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    policy: Vec<Policy>,
+}
+
+#[derive(clap::Args, Debug)]
+struct ReportArgs {
+    /// Result files of `nudge batch` (shards are merged; repeated runs count once).
+    #[arg(required = true, value_name = "RESULTS.jsonl")]
+    files: Vec<PathBuf>,
+}
+
+#[derive(clap::Args, Debug)]
+struct InspectArgs {
+    /// The MCAP recording.
+    #[arg(value_name = "FILE.mcap")]
+    file: PathBuf,
+}
+
+/// Part `index` of `count` of a batch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// Which part, from 0.
+    pub index: usize,
+    /// How many parts.
+    pub count: usize,
+}
+
+impl Shard {
+    /// True when run number `run` (in the batch's stable order) belongs to this shard.
+    pub fn takes(&self, run: usize) -> bool {
+        run % self.count == self.index
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (i, n) = s
+            .split_once('/')
+            .ok_or_else(|| format!("'{s}' is not I/N (e.g. 0/4)"))?;
+        let index: usize = i
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard index '{i}' is not a whole number"))?;
+        let count: usize = n
+            .trim()
+            .parse()
+            .map_err(|_| format!("shard count '{n}' is not a whole number"))?;
+        if count == 0 {
+            return Err("the shard count must be at least 1".into());
+        }
+        if index >= count {
+            return Err(format!(
+                "shard index {index} must be below the count {count} (0/{count} .. {}/{count})",
+                count - 1
+            ));
+        }
+        Ok(Self { index, count })
+    }
 }
 
 /// Runs the parsed command; `nudge` alone runs the paper's room.
 pub fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Some(Command::Run(args)) => run::run(args),
+        Some(Command::Check(args)) => check::check(args),
+        Some(Command::Batch(args)) => batch::batch(args),
+        Some(Command::Report(args)) => report::report(args),
+        Some(Command::Inspect(args)) => inspect::inspect(args),
         None => run::run(RunArgs::default()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_specs_parse_or_say_what_is_wrong() {
+        // Invariant: I/N with I < N parses; anything else is refused with a reason.
+        assert_eq!("2/4".parse(), Ok(Shard { index: 2, count: 4 }));
+        for (bad, why) in [
+            ("4/4", "must be below"),
+            ("1/0", "at least 1"),
+            ("x/2", "not a whole number"),
+            ("3", "is not I/N"),
+            ("-1/2", "not a whole number"),
+        ] {
+            let err = bad.parse::<Shard>().expect_err(bad);
+            assert!(err.contains(why), "{bad}: {err}");
+        }
     }
 }

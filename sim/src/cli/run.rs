@@ -4,32 +4,22 @@ use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-use anyhow::Context;
-use nudge_executive::record::{McapRecorder, RunInfo};
+use nudge_executive::record::{McapRecorder, RunInfo, RunSummary};
 use nudge_executive::{CandidatePolicy, RunReport, State};
 use nudge_sim::run::runner;
-use nudge_sim::scenario::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML, Scenario};
 
+use super::source::Source;
 use super::timeline::{TimelinePrinter, verdict_word};
 use super::{EXIT_ABORTED, EXIT_NO_PATH, RunArgs};
 
 pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
-    let (scenario, file_name, text) = match &args.scenario {
-        Some(path) => {
-            let scenario = Scenario::from_path(path)?;
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read {}", path.display()))?;
-            let name = path.file_name().map_or_else(
-                || path.display().to_string(),
-                |n| n.to_string_lossy().into_owned(),
-            );
-            (scenario, name, text)
-        }
-        None => (
-            Scenario::default_room()?,
-            DEFAULT_ROOM_ORIGIN.to_string(),
-            DEFAULT_ROOM_TOML.to_string(),
-        ),
+    let Source {
+        file: file_name,
+        text,
+        scenario,
+    } = match &args.scenario {
+        Some(path) => Source::load(path)?,
+        None => Source::default_room()?,
     };
     let seed = args.seed.unwrap_or(scenario.seed);
     let policy: CandidatePolicy = args.policy.map(Into::into).unwrap_or_default();
@@ -62,7 +52,8 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let report = runner.run();
     let wall = started.elapsed().as_secs_f64();
     let (_, (_, recorder)) = runner.into_parts();
-    if let (Some(recorder), Some(path)) = (recorder, &args.record) {
+    if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
+        recorder.write_summary(report.robot_time, &RunSummary::of(&report));
         match recorder.finish() {
             Ok(_) => println!("recording: {}", path.display()),
             Err(e) => eprintln!("nudge: recording {} is incomplete: {e}", path.display()),

@@ -1,0 +1,142 @@
+//! `nudge check`: run scenarios and compare each with its `[expect]` block.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use nudge_sim::score::{Outcome, compare};
+
+use super::pool::{Cancel, Job, run_all};
+use super::source::{Source, expand};
+use super::{CheckArgs, EXIT_FAILED};
+
+/// What one scenario's check came to.
+enum Row {
+    /// Met its `[expect]` block.
+    Pass { summary: String },
+    /// Differed from it; each difference in words.
+    Fail {
+        summary: String,
+        differences: Vec<String>,
+    },
+    /// Has no `[expect]` block: ran, but nothing to compare.
+    NoExpect { summary: String },
+    /// Could not be loaded or run.
+    Error(String),
+}
+
+pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
+    let files = expand(&args.scenarios)?;
+    let loaded: Vec<(PathBuf, anyhow::Result<Source>)> = files
+        .into_iter()
+        .map(|f| {
+            let source = Source::load(&f);
+            (f, source)
+        })
+        .collect();
+    let policy = args.policy.into();
+    let jobs: Vec<(usize, Job<'_>)> = loaded
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (_, s))| {
+            let s = s.as_ref().ok()?;
+            Some((
+                i,
+                Job {
+                    scenario: &s.scenario,
+                    file: &s.file,
+                    seed: args.seed.unwrap_or(s.scenario.seed),
+                    policy,
+                },
+            ))
+        })
+        .collect();
+    let mut rows: Vec<Option<Row>> = loaded
+        .iter()
+        .map(|(_, s)| s.as_ref().err().map(|e| Row::Error(format!("{e:#}"))))
+        .collect();
+    let cancel = Cancel::default();
+    let handler = cancel.clone();
+    let _ = ctrlc::set_handler(move || handler.stop());
+    let (indices, jobs): (Vec<usize>, Vec<Job<'_>>) = jobs.into_iter().unzip();
+    run_all(
+        &jobs,
+        args.jobs.unwrap_or_else(super::cores),
+        &cancel,
+        |j, result| {
+            let row = match result {
+                Err(e) => Row::Error(format!("{e:#}")),
+                Ok(done) => {
+                    let outcome = Outcome::of(&done.report.outcome);
+                    let summary = format!(
+                        "{}, {} push tests, {:.1} s",
+                        outcome.word(),
+                        done.report.knowledge.push_tests,
+                        done.report.robot_time
+                    );
+                    match &jobs[j].scenario.expect {
+                        None => Row::NoExpect { summary },
+                        Some(expect) => {
+                            let differences: Vec<String> = compare(expect, outcome, &done.scored)
+                                .iter()
+                                .map(ToString::to_string)
+                                .collect();
+                            if differences.is_empty() {
+                                Row::Pass { summary }
+                            } else {
+                                Row::Fail {
+                                    summary,
+                                    differences,
+                                }
+                            }
+                        }
+                    }
+                }
+            };
+            rows[indices[j]] = Some(row);
+        },
+    );
+    let mut failed = 0;
+    let mut unchecked = 0;
+    let width = loaded
+        .iter()
+        .map(|(p, _)| p.display().to_string().len())
+        .max()
+        .unwrap_or(8)
+        .max(8);
+    println!("{:<width$}  result    what happened", "scenario");
+    for ((path, _), row) in loaded.iter().zip(&rows) {
+        let name = path.display().to_string();
+        match row {
+            Some(Row::Pass { summary }) => println!("{name:<width$}  pass      {summary}"),
+            Some(Row::Fail {
+                summary,
+                differences,
+            }) => {
+                failed += 1;
+                println!(
+                    "{name:<width$}  FAIL      {summary}: {}",
+                    differences.join("; ")
+                );
+            }
+            Some(Row::NoExpect { summary }) => {
+                unchecked += 1;
+                println!("{name:<width$}  no-expect {summary} (no [expect] block)");
+            }
+            Some(Row::Error(e)) => {
+                failed += 1;
+                println!("{name:<width$}  ERROR     {e}");
+            }
+            None => {
+                failed += 1;
+                println!("{name:<width$}  ERROR     not run (cancelled)");
+            }
+        }
+    }
+    let passed = rows.len() - failed - unchecked;
+    println!("\n{passed} passed, {failed} failed, {unchecked} without [expect]");
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(EXIT_FAILED)
+    })
+}

@@ -1,0 +1,131 @@
+//! Many runs on a few threads: each worker takes the next job, runs it, and hands the result back
+//! to the calling thread, which sees results as they finish.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use nudge_executive::record::Observer;
+use nudge_executive::robot::Wrench;
+use nudge_executive::{CandidatePolicy, RunReport};
+use nudge_sim::run::runner;
+use nudge_sim::scenario::Scenario;
+use nudge_sim::score::{Scored, score};
+
+/// One run to do.
+pub struct Job<'a> {
+    /// The scenario.
+    pub scenario: &'a Scenario,
+    /// Its file's name.
+    pub file: &'a str,
+    /// The run's seed.
+    pub seed: u64,
+    /// The candidate policy.
+    pub policy: CandidatePolicy,
+}
+
+/// A finished run, scored against ground truth.
+pub struct Done {
+    /// The executive's report.
+    pub report: RunReport,
+    /// Each verdict against the truth.
+    pub scored: Vec<Scored>,
+    /// The largest wrist force seen during the run (N).
+    pub peak_force: f64,
+    /// Wall-clock seconds the run took.
+    pub wall: f64,
+}
+
+/// Cancels every run in progress and keeps new ones from starting (Ctrl-C).
+#[derive(Clone, Default)]
+pub struct Cancel {
+    stopped: Arc<AtomicBool>,
+    running: Arc<Mutex<Vec<Arc<AtomicBool>>>>,
+}
+
+impl Cancel {
+    /// Stops everything.
+    pub fn stop(&self) {
+        self.stopped.store(true, Ordering::Relaxed);
+        if let Ok(flags) = self.running.lock() {
+            for f in flags.iter() {
+                f.store(true, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// True once [`Cancel::stop`] was called.
+    pub fn is_stopped(&self) -> bool {
+        self.stopped.load(Ordering::Relaxed)
+    }
+
+    fn watch(&self, flag: Arc<AtomicBool>) {
+        if let Ok(mut flags) = self.running.lock() {
+            flags.push(flag);
+        }
+        if self.is_stopped() {
+            self.stop();
+        }
+    }
+}
+
+/// Remembers the largest wrist force of a run.
+#[derive(Default)]
+struct PeakForce(f64);
+
+impl Observer for PeakForce {
+    fn wrench(&mut self, _stamp: f64, wrench: &Wrench) {
+        self.0 = self.0.max(wrench.force_norm());
+    }
+}
+
+/// Runs one job to its end and scores it.
+pub fn execute(job: &Job<'_>, cancel: &Cancel) -> anyhow::Result<Done> {
+    let started = Instant::now();
+    let mut runner = runner(job.scenario, job.seed, job.policy, PeakForce::default())?;
+    cancel.watch(runner.cancel_flag());
+    let report = runner.run();
+    let wall = started.elapsed().as_secs_f64();
+    let (robot, peak) = runner.into_parts();
+    let scored = score(&report, &robot);
+    Ok(Done {
+        report,
+        scored,
+        peak_force: peak.0,
+        wall,
+    })
+}
+
+/// Runs `jobs` on `threads` worker threads; `on_done(index, result)` is called on this thread as
+/// each finishes, in completion order. Jobs not started when `cancel` stops are skipped.
+pub fn run_all(
+    jobs: &[Job<'_>],
+    threads: usize,
+    cancel: &Cancel,
+    mut on_done: impl FnMut(usize, anyhow::Result<Done>),
+) {
+    let next = AtomicUsize::new(0);
+    let (sender, receiver) = mpsc::channel();
+    std::thread::scope(|scope| {
+        for _ in 0..threads.clamp(1, jobs.len().max(1)) {
+            let sender = sender.clone();
+            let next = &next;
+            scope.spawn(move || {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= jobs.len() || cancel.is_stopped() {
+                        break;
+                    }
+                    if sender.send((i, execute(&jobs[i], cancel))).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(sender);
+        for (i, result) in receiver {
+            on_done(i, result);
+        }
+    });
+}

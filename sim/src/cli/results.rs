@@ -1,0 +1,216 @@
+//! Result lines of `nudge batch` (one JSON object per run) and the per-scenario summary table that
+//! `nudge batch` and `nudge report` print.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+
+use super::pool::{Done, Job};
+use nudge_sim::score::Outcome;
+
+/// One run of a batch, as one JSON line. Everything but `wall_time` depends only on the scenario,
+/// the seed and the policy.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunLine {
+    /// Scenario name.
+    pub scenario: String,
+    /// Scenario file name.
+    pub file: String,
+    /// The run's seed.
+    pub seed: u64,
+    /// Candidate policy ("nearest" or "blocking").
+    pub policy: String,
+    /// "goal", "no_path" or "aborted".
+    pub outcome: String,
+    /// Push tests run.
+    pub push_tests: u32,
+    /// Verdicts that match the simulation's ground truth.
+    pub right: u32,
+    /// Verdicts that do not (or that matched no scenario object).
+    pub wrong: u32,
+    /// Robot time of the run (s).
+    pub robot_time: f64,
+    /// Wall-clock time of the run (s); the one field that differs between equal runs.
+    pub wall_time: f64,
+    /// Largest wrist force of the run (N).
+    pub peak_force: f64,
+}
+
+impl RunLine {
+    /// The line of a finished job.
+    pub fn of(job: &Job<'_>, done: &Done) -> Self {
+        let right = done.scored.iter().filter(|s| s.correct).count() as u32;
+        Self {
+            scenario: job.scenario.name.clone(),
+            file: job.file.to_string(),
+            seed: job.seed,
+            policy: super::policy_word(job.policy).to_string(),
+            outcome: Outcome::of(&done.report.outcome).word().to_string(),
+            push_tests: done.report.knowledge.push_tests,
+            right,
+            wrong: done.scored.len() as u32 - right,
+            robot_time: done.report.robot_time,
+            wall_time: done.wall,
+            peak_force: done.peak_force,
+        }
+    }
+
+    /// What identifies a run: the same key means the same run.
+    pub fn key(&self) -> (String, String, String, u64) {
+        (
+            self.scenario.clone(),
+            self.file.clone(),
+            self.policy.clone(),
+            self.seed,
+        )
+    }
+}
+
+/// Reads result lines from `path`; blank lines are skipped, anything else that is not a result line
+/// is an error naming the file and line.
+pub fn read(path: &Path) -> anyhow::Result<Vec<RunLine>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            serde_json::from_str(l)
+                .with_context(|| format!("{}:{}: not a nudge result line", path.display(), i + 1))
+        })
+        .collect()
+}
+
+#[derive(Default)]
+struct Tally {
+    runs: u32,
+    goal: u32,
+    no_path: u32,
+    aborted: u32,
+    push_tests: u64,
+    right: u64,
+    wrong: u64,
+    robot_time: f64,
+    peak_force: f64,
+}
+
+/// The summary table, one row per scenario and policy: runs, outcomes, success rate, mean push tests,
+/// classification accuracy (right / all verdicts), mean robot time, largest force.
+pub fn table(lines: &[RunLine]) -> String {
+    let mut tallies: BTreeMap<(&str, &str), Tally> = BTreeMap::new();
+    for l in lines {
+        let t = tallies.entry((&l.scenario, &l.policy)).or_default();
+        t.runs += 1;
+        match l.outcome.as_str() {
+            "goal" => t.goal += 1,
+            "no_path" => t.no_path += 1,
+            _ => t.aborted += 1,
+        }
+        t.push_tests += u64::from(l.push_tests);
+        t.right += u64::from(l.right);
+        t.wrong += u64::from(l.wrong);
+        t.robot_time += l.robot_time;
+        t.peak_force = t.peak_force.max(l.peak_force);
+    }
+    let width = tallies
+        .keys()
+        .map(|(s, _)| s.len())
+        .max()
+        .unwrap_or(0)
+        .max(8);
+    let mut out = format!(
+        "{:<width$}  {:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>7}  {:>10}  {:>8}  {:>10}  {:>9}\n",
+        "scenario",
+        "policy",
+        "runs",
+        "goal",
+        "no_path",
+        "aborted",
+        "success",
+        "push tests",
+        "accuracy",
+        "robot time",
+        "max force"
+    );
+    for ((scenario, policy), t) in &tallies {
+        let runs = f64::from(t.runs.max(1));
+        let verdicts = t.right + t.wrong;
+        let accuracy = if verdicts == 0 {
+            "-".to_string()
+        } else {
+            format!("{:.1}%", 100.0 * t.right as f64 / verdicts as f64)
+        };
+        out.push_str(&format!(
+            "{scenario:<width$}  {policy:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>10.2}  {accuracy:>8}  {:>8.1} s  {:>7.1} N\n",
+            t.runs,
+            t.goal,
+            t.no_path,
+            t.aborted,
+            100.0 * f64::from(t.goal) / runs,
+            t.push_tests as f64 / runs,
+            t.robot_time / runs,
+            t.peak_force,
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(scenario: &str, seed: u64, outcome: &str, right: u32, wrong: u32) -> RunLine {
+        RunLine {
+            scenario: scenario.into(),
+            file: format!("{scenario}.toml"),
+            seed,
+            policy: "nearest".into(),
+            outcome: outcome.into(),
+            push_tests: 2,
+            right,
+            wrong,
+            robot_time: 100.0,
+            wall_time: 1.0,
+            peak_force: 18.0,
+        }
+    }
+
+    #[test]
+    fn the_table_rates_success_and_accuracy_per_scenario() {
+        // Invariant: success = goal runs / runs and accuracy = right / (right + wrong), per scenario.
+        let lines = [
+            line("room", 1, "goal", 2, 0),
+            line("room", 2, "no_path", 1, 1),
+            line("hall", 1, "goal", 0, 0),
+        ];
+        let t = table(&lines);
+        let room = t.lines().find(|l| l.starts_with("room")).expect("room row");
+        assert!(room.contains(" 50.0%"), "{room}");
+        assert!(room.contains(" 75.0%"), "{room}");
+        let hall = t.lines().find(|l| l.starts_with("hall")).expect("hall row");
+        assert!(hall.contains("100.0%"), "{hall}");
+        assert!(hall.contains("       -"), "no verdicts shows '-': {hall}");
+    }
+
+    #[test]
+    fn result_lines_round_trip_and_bad_lines_name_their_place() {
+        // Invariant: a written line reads back equal; a malformed line is an error with file and line number.
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("r.jsonl");
+        let good = serde_json::to_string(&line("room", 3, "goal", 1, 0)).expect("serialise");
+        std::fs::write(&path, format!("{good}\n\n{{\"scenario\": 1}}\n")).expect("write");
+        let err = read(&path).expect_err("bad second line");
+        assert!(
+            format!("{err}").ends_with("r.jsonl:3: not a nudge result line"),
+            "{err}"
+        );
+        std::fs::write(&path, format!("{good}\n")).expect("write");
+        assert_eq!(
+            read(&path).expect("reads"),
+            vec![line("room", 3, "goal", 1, 0)]
+        );
+    }
+}
