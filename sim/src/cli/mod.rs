@@ -3,6 +3,7 @@
 mod batch;
 mod check;
 mod inspect;
+mod map;
 mod pool;
 mod report;
 mod results;

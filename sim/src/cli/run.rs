@@ -8,6 +8,7 @@ use nudge_executive::record::{McapRecorder, RunInfo, RunSummary};
 use nudge_executive::{CandidatePolicy, RunReport, State};
 use nudge_sim::run::runner;
 
+use super::map::{MapCollector, draw};
 use super::source::Source;
 use super::timeline::{TimelinePrinter, verdict_word};
 use super::{EXIT_ABORTED, EXIT_NO_PATH, RunArgs};
@@ -43,7 +44,8 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let printer = TimelinePrinter {
         enabled: !args.quiet,
     };
-    let mut runner = runner(&scenario, seed, policy, (printer, recorder))?;
+    let map = args.map.as_ref().map(|_| MapCollector::new(&scenario));
+    let mut runner = runner(&scenario, seed, policy, (printer, (recorder, map)))?;
     let cancel = runner.cancel_flag();
     // Ctrl-C cancels the run safely (the arm retracts, the recording is finished); a second one is
     // the operating system's.
@@ -51,7 +53,17 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let report = runner.run();
     let wall = started.elapsed().as_secs_f64();
-    let (_, (_, recorder)) = runner.into_parts();
+    let (_, (_, (recorder, map))) = runner.into_parts();
+    if let (Some(map), Some(path)) = (map, &args.map) {
+        match draw(&map, path) {
+            Ok(()) => println!(
+                "map: {} ({} push-test force panels below the map)",
+                path.display(),
+                map.tests.len()
+            ),
+            Err(e) => eprintln!("nudge: {e:#}"),
+        }
+    }
     if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
         recorder.write_summary(report.robot_time, &RunSummary::of(&report));
         match recorder.finish() {

@@ -1,0 +1,190 @@
+//! `--map FILE.png`: an [`Observer`] that collects what a run saw and did, then draws it top-down
+//! with one force-over-time panel per push test below the map (the paper's Fig. 12).
+
+mod draw;
+mod font;
+
+pub use draw::draw;
+
+use nalgebra::{Point2, Vector2};
+use nudge_executive::record::{GridView, Observer, RobotFrames};
+use nudge_executive::robot::Wrench;
+use nudge_executive::{Edge, PushEvidence, PushIntent, State, Verdict};
+use nudge_perception::{ObjectId, Prism};
+use nudge_sim::scenario::Scenario;
+
+/// The robot's track keeps a point each time the base moved this far (m).
+const TRACK_STEP: f64 = 0.01;
+
+/// The latest obstacle-type grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridCopy {
+    /// Corner of cell (0, 0) in the map frame (m).
+    pub origin: Point2<f64>,
+    /// Cell side (m).
+    pub resolution: f64,
+    /// Cells along x.
+    pub width: usize,
+    /// Cells along y.
+    pub height: usize,
+    /// Class codes, row-major from (0, 0), rows along x.
+    pub classes: Vec<u8>,
+}
+
+/// A push as it ran (a test or a clearing push), with the map-frame force it peaked at.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushMark {
+    /// What was pushed, from where, which way.
+    pub intent: PushIntent,
+    /// Peak force vector (map frame, N).
+    pub force: Vector2<f64>,
+}
+
+/// The wrist force of one push test over time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ForceTrace {
+    /// The object tested.
+    pub object: Option<ObjectId>,
+    /// 1 for the first test of the object, 2 for the retest.
+    pub attempt: u8,
+    /// (robot time s, force magnitude N).
+    pub samples: Vec<(f64, f64)>,
+    /// The verdict the test led to, if it led to one.
+    pub verdict: Option<Verdict>,
+    /// The force limit of the test (N).
+    pub limit: Option<f64>,
+}
+
+/// What a map shows, collected while the run goes.
+#[derive(Clone, Debug)]
+pub struct MapCollector {
+    /// The scenario (room, start, goal, true objects).
+    pub scenario: Scenario,
+    /// The latest grid, when the runner reports one.
+    pub grid: Option<GridCopy>,
+    /// The latest obstacles.
+    pub prisms: Vec<Prism>,
+    /// Base positions over time.
+    pub track: Vec<Point2<f64>>,
+    /// Every path the robot set out on, in order.
+    pub paths: Vec<Vec<Point2<f64>>>,
+    /// Every push that ran, in order.
+    pub pushes: Vec<PushMark>,
+    /// Every push test's force trace, in order.
+    pub tests: Vec<ForceTrace>,
+    /// The last verdict on each object.
+    pub verdicts: Vec<(ObjectId, Verdict)>,
+    in_test: bool,
+}
+
+impl MapCollector {
+    /// An empty collection for a run of `scenario`.
+    pub fn new(scenario: &Scenario) -> Self {
+        Self {
+            scenario: scenario.clone(),
+            grid: None,
+            prisms: Vec::new(),
+            track: Vec::new(),
+            paths: Vec::new(),
+            pushes: Vec::new(),
+            tests: Vec::new(),
+            verdicts: Vec::new(),
+            in_test: false,
+        }
+    }
+
+    /// The verdict on `object`, if it has one.
+    pub fn verdict_of(&self, object: ObjectId) -> Option<&Verdict> {
+        self.verdicts
+            .iter()
+            .rev()
+            .find(|(id, _)| *id == object)
+            .map(|(_, v)| v)
+    }
+}
+
+impl Observer for MapCollector {
+    fn transition(&mut self, _stamp: f64, _from: &State, _edge: Edge, to: &State) {
+        match to {
+            State::PushTest {
+                target, attempt, ..
+            } if !self.in_test => {
+                self.in_test = true;
+                self.tests.push(ForceTrace {
+                    object: Some(*target),
+                    attempt: *attempt,
+                    samples: Vec::new(),
+                    verdict: None,
+                    limit: None,
+                });
+            }
+            State::PushTest { .. } => {}
+            _ => self.in_test = false,
+        }
+    }
+
+    fn verdict(
+        &mut self,
+        _stamp: f64,
+        object: ObjectId,
+        verdict: &Verdict,
+        evidence: &PushEvidence,
+    ) {
+        self.verdicts.push((object, verdict.clone()));
+        if let Some(t) = self
+            .tests
+            .iter_mut()
+            .rev()
+            .find(|t| t.object == Some(object))
+        {
+            t.verdict = Some(verdict.clone());
+            t.limit = Some(evidence.force_limit);
+        }
+    }
+
+    fn prisms(&mut self, _stamp: f64, prisms: &[Prism]) {
+        self.prisms = prisms.to_vec();
+    }
+
+    fn grid(&mut self, _stamp: f64, grid: &GridView<'_>) {
+        self.grid = Some(GridCopy {
+            origin: grid.origin,
+            resolution: grid.resolution,
+            width: grid.width,
+            height: grid.height,
+            classes: grid.classes.to_vec(),
+        });
+    }
+
+    fn path(&mut self, _stamp: f64, waypoints: &[Point2<f64>]) {
+        self.paths.push(waypoints.to_vec());
+    }
+
+    fn push(&mut self, _stamp: f64, intent: &PushIntent, force: Option<Vector2<f64>>) {
+        if let Some(force) = force {
+            self.pushes.push(PushMark {
+                intent: intent.clone(),
+                force,
+            });
+        }
+    }
+
+    fn frames(&mut self, _stamp: f64, frames: &RobotFrames) {
+        let here = Point2::from(frames.base.translation.vector);
+        if self
+            .track
+            .last()
+            .is_none_or(|last| (here - last).norm() >= TRACK_STEP)
+        {
+            self.track.push(here);
+        }
+    }
+
+    fn wrench(&mut self, stamp: f64, wrench: &Wrench) {
+        if self.in_test
+            && let Some(t) = self.tests.last_mut()
+        {
+            t.samples.push((stamp, wrench.force_norm()));
+        }
+    }
+}
