@@ -34,6 +34,9 @@ pub struct Contents {
 
 /// Reads an MCAP file's records in order.
 pub fn read(bytes: &[u8]) -> anyhow::Result<Contents> {
+    if !bytes.starts_with(mcap::MAGIC) {
+        bail!("not an MCAP file (no MCAP magic at the start)");
+    }
     let records = mcap::read::ChunkFlattener::new(bytes).context("not an MCAP file")?;
     let mut c = Contents::default();
     for record in records {
@@ -76,11 +79,11 @@ pub(super) fn inspect(args: InspectArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("cannot read {}", args.file.display()))?;
     let c = read(&bytes).with_context(|| format!("{}", args.file.display()))?;
     print(&args.file, bytes.len(), &c);
-    if c.channels.is_empty() && c.broken.is_some() {
+    if let Some(e) = &c.broken {
         bail!(
-            "{}: unreadable recording: {}",
+            "{}: truncated or corrupt recording (read {} messages before: {e})",
             args.file.display(),
-            c.broken.unwrap_or_default()
+            c.counts.values().sum::<u64>()
         );
     }
     Ok(ExitCode::SUCCESS)

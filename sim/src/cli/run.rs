@@ -1,9 +1,11 @@
 //! `nudge run`: one scenario, its timeline, its summary.
 
+use std::fs::File;
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
+use anyhow::Context;
 use nudge_executive::record::{McapRecorder, RunInfo, RunSummary};
 use nudge_executive::{CandidatePolicy, RunReport, State};
 use nudge_sim::run::runner;
@@ -44,7 +46,13 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let printer = TimelinePrinter {
         enabled: !args.quiet,
     };
-    let map = args.map.as_ref().map(|_| MapCollector::new(&scenario));
+    let map_file = match &args.map {
+        Some(path) => {
+            Some(File::create(path).with_context(|| format!("cannot create {}", path.display()))?)
+        }
+        None => None,
+    };
+    let map = map_file.as_ref().map(|_| MapCollector::new(&scenario));
     let mut runner = runner(&scenario, seed, policy, (printer, (recorder, map)))?;
     let cancel = runner.cancel_flag();
     // Ctrl-C cancels the run safely (the arm retracts, the recording is finished); a second one is
@@ -54,21 +62,21 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let report = runner.run();
     let wall = started.elapsed().as_secs_f64();
     let (_, (_, (recorder, map))) = runner.into_parts();
-    if let (Some(map), Some(path)) = (map, &args.map) {
-        match draw(&map, path) {
+    if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
+        recorder.write_summary(report.robot_time, &RunSummary::of(&report));
+        match recorder.finish() {
+            Ok(_) => println!("recording: {}", path.display()),
+            Err(e) => eprintln!("nudge: recording {} is incomplete: {e}", path.display()),
+        }
+    }
+    if let (Some(map), Some(file), Some(path)) = (map, map_file, &args.map) {
+        match draw(&map, file, path) {
             Ok(()) => println!(
                 "map: {} ({} push-test force panels below the map)",
                 path.display(),
                 map.tests.len()
             ),
             Err(e) => eprintln!("nudge: {e:#}"),
-        }
-    }
-    if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
-        recorder.write_summary(report.robot_time, &RunSummary::of(&report));
-        match recorder.finish() {
-            Ok(_) => println!("recording: {}", path.display()),
-            Err(e) => eprintln!("nudge: recording {} is incomplete: {e}", path.display()),
         }
     }
     summarise(&report, wall);

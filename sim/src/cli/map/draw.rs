@@ -1,5 +1,7 @@
 //! Drawing a collected run: the room top-down above, one force-over-time panel per push test below.
 
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use anyhow::{Context, anyhow};
@@ -35,8 +37,9 @@ const UNTESTED: RGBColor = RGBColor(230, 140, 20);
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
-/// Writes `run` as a PNG to `path`: the map, and below it a force panel per push test.
-pub fn draw(run: &MapCollector, path: &Path) -> anyhow::Result<()> {
+/// Writes `run` as a PNG into `file` (opened at `path` before the run, so a bad path fails early):
+/// the map, and below it a force panel per push test.
+pub fn draw(run: &MapCollector, file: File, path: &Path) -> anyhow::Result<()> {
     let room = run.scenario.room.size;
     let scale = ((f64::from(WIDTH - Y_AXIS - 2 * MARGIN)) / room[0]).min(MAP_MAX_HEIGHT / room[1]);
     let map_height = (room[1] * scale).ceil() as u32 + CAPTION + X_AXIS + 2 * MARGIN;
@@ -59,8 +62,11 @@ pub fn draw(run: &MapCollector, path: &Path) -> anyhow::Result<()> {
     }
     let image = image::RgbImage::from_raw(WIDTH, height, buffer)
         .ok_or_else(|| anyhow!("picture buffer has the wrong size"))?;
+    let mut out = BufWriter::new(file);
     image
-        .save_with_format(path, image::ImageFormat::Png)
+        .write_to(&mut out, image::ImageFormat::Png)
+        .map_err(anyhow::Error::from)
+        .and_then(|()| Ok(out.flush()?))
         .with_context(|| format!("cannot write {}", path.display()))
 }
 

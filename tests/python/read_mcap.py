@@ -1,0 +1,52 @@
+"""Reads a nudge recording with the official Python `mcap` package and prints what it holds as JSON.
+
+Usage: python3 read_mcap.py FILE.mcap
+
+Prints one JSON object: message counts and schema names per topic, first and last log time (ns),
+metadata records by name, and attachment names. Exit code 3 when the `mcap` package is missing, so
+the Rust test can say it skipped rather than failed.
+"""
+
+import json
+import sys
+
+try:
+    from mcap.reader import make_reader
+except ImportError:
+    print("python mcap not installed", file=sys.stderr)
+    sys.exit(3)
+
+
+def main(path):
+    counts, schemas = {}, {}
+    start, end = None, None
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        for schema, channel, message in reader.iter_messages():
+            counts[channel.topic] = counts.get(channel.topic, 0) + 1
+            schemas[channel.topic] = schema.name if schema is not None else ""
+            t = message.log_time
+            start = t if start is None else min(start, t)
+            end = t if end is None else max(end, t)
+        metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
+        attachments = [a.name for a in reader.iter_attachments()]
+    print(
+        json.dumps(
+            {
+                "counts": counts,
+                "schemas": schemas,
+                "start": start,
+                "end": end,
+                "metadata": metadata,
+                "attachments": attachments,
+            },
+            sort_keys=True,
+        )
+    )
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        sys.exit(2)
+    main(sys.argv[1])
