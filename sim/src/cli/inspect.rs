@@ -120,8 +120,13 @@ fn print(path: &Path, size: usize, c: &Contents) {
             .schemas
             .get(schema)
             .map_or(("-", "-"), |(n, e)| (n.as_str(), e.as_str()));
+        let encodings = if schema_encoding == encoding {
+            encoding.clone()
+        } else {
+            format!("{encoding} messages, {schema_encoding} schema")
+        };
         println!(
-            "{topic:<width$}  {:>8}  {name} ({schema_encoding}, {encoding} messages)",
+            "{topic:<width$}  {:>8}  {name} ({encodings})",
             c.counts.get(id).copied().unwrap_or(0)
         );
     }
@@ -140,7 +145,7 @@ fn print(path: &Path, size: usize, c: &Contents) {
     match c.metadata.get(SUMMARY_METADATA) {
         Some(summary) => {
             println!("\nrun summary");
-            for (k, v) in summary {
+            for (k, v) in summary.iter().filter(|(_, v)| !v.is_empty()) {
                 println!("  {k:<14} {v}");
             }
         }

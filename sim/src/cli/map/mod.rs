@@ -188,3 +188,77 @@ impl Observer for MapCollector {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Isometry2, Unit};
+    use nudge_perception::grid::CellClass;
+
+    use super::*;
+
+    fn room() -> MapCollector {
+        let scenario = Scenario::default_room().expect("default room");
+        let mut run = MapCollector::new(&scenario);
+        // A 10 × 10 grid of 0.1 m cells at (1, 1): a band of each class.
+        let classes: Vec<u8> = (0..100u8).map(|i| (i / 20).min(4)).collect();
+        run.grid(
+            0.0,
+            &GridView {
+                origin: Point2::new(1.0, 1.0),
+                resolution: 0.1,
+                width: 10,
+                height: 10,
+                classes: &classes,
+            },
+        );
+        run.path(1.0, &[Point2::new(0.6, 1.8), Point2::new(2.0, 0.5)]);
+        run
+    }
+
+    #[test]
+    fn push_tests_collect_their_force_and_verdict() {
+        // Invariant: wrist samples land in the push test under way (none outside one), and the verdict after it is attached to it.
+        let mut run = room();
+        let target = ObjectId(4);
+        let intent = PushIntent {
+            target,
+            stand: Isometry2::translation(3.0, 0.55),
+            hand_height: 0.6,
+            direction: Unit::new_normalize(Vector2::x()),
+            distance: 0.8,
+        };
+        let wrench = |f: f64| Wrench {
+            force: nalgebra::Vector3::new(f, 0.0, 0.0),
+            torque: nalgebra::Vector3::zeros(),
+        };
+        run.wrench(0.5, &wrench(3.0));
+        let testing = State::PushTest {
+            target,
+            intent: intent.clone(),
+            attempt: 1,
+        };
+        run.transition(1.0, &State::LookAround, Edge::Cleared, &testing);
+        run.wrench(1.1, &wrench(5.0));
+        run.wrench(1.2, &wrench(12.0));
+        run.transition(2.0, &testing, Edge::Cleared, &State::LookAround);
+        run.wrench(2.5, &wrench(7.0));
+        run.push(2.0, &intent, Some(Vector2::new(-12.0, 0.0)));
+        assert_eq!(run.tests.len(), 1);
+        assert_eq!(run.tests[0].samples, vec![(1.1, 5.0), (1.2, 12.0)]);
+        assert_eq!(run.tests[0].object, Some(target));
+        assert_eq!(run.pushes.len(), 1);
+        let path = std::env::temp_dir().join(format!("nudge-map-test-{}.png", std::process::id()));
+        let file = std::fs::File::create(&path).expect("temp file");
+        draw(&run, file, &path).expect("draws");
+        let image = image::open(&path).expect("a PNG").to_rgb8();
+        let _ = std::fs::remove_file(&path);
+        let has = |rgb: [u8; 4]| image.pixels().any(|p| p.0 == [rgb[0], rgb[1], rgb[2]]);
+        // Free cells are white like the background; unknown ones are drawn lighter than the palette's.
+        for class in [CellClass::Stationary, CellClass::Movable, CellClass::Moving] {
+            assert!(has(class.colour()), "{class:?} cells are drawn");
+        }
+        assert!(has([215, 215, 215, 255]), "unknown cells are drawn");
+        assert!(has([20, 160, 60, 255]), "the path");
+        assert!(image.height() > 700 + 200, "a force panel below the map");
+    }
+}
