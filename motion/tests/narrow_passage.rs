@@ -99,3 +99,29 @@ fn the_passages_are_really_narrow() {
     assert!(!v.is_free(&(centre + nalgebra::Vector2::new(0.06, 0.0))));
     assert!((v.clearance(&centre) - 0.05).abs() < 1e-4);
 }
+
+#[test]
+fn the_recorded_tree_is_the_search_that_found_the_path() {
+    // Invariant: every recorded tree edge is a free motion, every path waypoint is a tree node, and the
+    // recorded solve returns the same path as the plain solve with the same seed.
+    let (v, p) = common::narrow_z();
+    let planner = RrtConnect::default();
+    let budget = Budget::iterations(200_000);
+    let plain = planner
+        .solve_with_effort(&p, &v, budget, &mut ChaCha8Rng::seed_from_u64(7))
+        .0
+        .expect("Z is solved on seed 7");
+    let (path, _, tree) = planner.solve_recorded(&p, &v, budget, &mut ChaCha8Rng::seed_from_u64(7));
+    let path = path.expect("the recorded solve finds the same path");
+    assert_eq!(path.waypoints(), plain.waypoints());
+    assert!(tree.edges.len() >= path.waypoints().len() - 1);
+    for [a, b] in &tree.edges {
+        assert!(v.motion_free(a, b), "edge {a} -> {b} collides");
+    }
+    for w in path.waypoints() {
+        assert!(
+            tree.edges.iter().any(|[a, b]| a == w || b == w),
+            "waypoint {w} is not in the tree"
+        );
+    }
+}

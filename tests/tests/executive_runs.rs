@@ -1,9 +1,12 @@
 //! End to end in the simulation: the executive against the paper's room and its variants, scored
 //! against ground truth.
 
+use nalgebra::{Isometry3, Point3, Vector3};
 use nudge_executive::record::NullObserver;
 use nudge_executive::{CandidatePolicy, Edge, RunReport, State, Verdict};
+use nudge_perception::grid::{CellClass, CellIndex, Evidence};
 use nudge_sim::adapter::SimRobot;
+use nudge_sim::truth::Truth;
 use nudge_tests::truth::{Scored, score};
 
 fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
@@ -131,8 +134,92 @@ fn an_open_room_reaches_the_goal_without_a_push() {
 
 #[test]
 fn the_same_scenario_and_seed_give_the_same_run() {
-    // Invariant: two runs of the paper's room with one seed are identical, timeline, verdicts and obstacles.
+    // Invariant: two runs of the paper's room with one seed are identical: timeline, verdicts, obstacles and grid.
     let a = run("kakiuchi-room", CandidatePolicy::Nearest).0;
     let b = run("kakiuchi-room", CandidatePolicy::Nearest).0;
+    assert!(a.grid.is_some());
     assert_eq!(a, b);
+}
+
+#[test]
+fn the_papers_room_leaves_its_verdicts_in_the_shared_grid() {
+    // Invariant: after the paper's run the grid holds the push tests' verdicts where the objects truly stand (table Stationary, pushed chair Movable, both by push test) and the floor the chair left is not an obstacle.
+    let scenario = nudge_tests::scenario("kakiuchi-room").expect("scenario loads");
+    let (report, robot) = nudge_tests::run(
+        &scenario,
+        scenario.seed,
+        CandidatePolicy::Nearest,
+        NullObserver,
+    )
+    .expect("world builds");
+    let grid = report.grid.as_ref().expect("the run keeps a grid");
+    let scored = score(&report, &robot);
+    let truth = Truth::new(robot.world());
+    let geometry = grid.geometry();
+    let inner = |name: &str, pose: Isometry3<f64>| {
+        // Cell centres at least one cell inside the object's true footprint.
+        let (i, (spec, _)) = robot
+            .world()
+            .objects()
+            .iter()
+            .enumerate()
+            .find(|(_, (s, _))| s.name == name)
+            .expect("object exists");
+        let margin = geometry.resolution();
+        let half = (spec.size[0] / 2.0 - margin, spec.size[1] / 2.0 - margin);
+        let cells: Vec<CellIndex> = (0..geometry.len())
+            .filter_map(|k| geometry.cell_at(k))
+            .filter(|&c| {
+                let p = geometry.centre(c);
+                let local =
+                    pose.inverse_transform_point(&Point3::new(p.x, p.y, pose.translation.z));
+                local.x.abs() <= half.0 && local.y.abs() <= half.1
+            })
+            .collect();
+        (i, cells)
+    };
+    let mut checked = 0;
+    for s in &scored {
+        let name = s.object.clone().expect("every verdict matches an object");
+        let (i, _) = inner(&name, Isometry3::identity());
+        let now = truth.object_pose(i).expect("object has a pose");
+        let (_, cells) = inner(&name, now);
+        assert!(!cells.is_empty(), "{name} covers cells");
+        let want = if s.verdict.is_movable() {
+            CellClass::Movable
+        } else {
+            CellClass::Stationary
+        };
+        for c in &cells {
+            let info = grid.cell(*c).expect("cell in grid");
+            assert_eq!(
+                info.class,
+                want,
+                "{name}'s cell {c:?} at {}",
+                geometry.centre(*c)
+            );
+            assert!(matches!(info.evidence, Evidence::Active { object, .. } if object == s.id));
+            checked += 1;
+        }
+        if s.verdict.is_movable() {
+            // Where the chair stood at the start and no longer does, the push freed the floor.
+            let spec = &robot.world().objects()[i].0;
+            let start = Isometry3::new(
+                Vector3::new(spec.position[0], spec.position[1], now.translation.z),
+                Vector3::z() * spec.yaw.to_radians(),
+            );
+            let (_, left) = inner(&name, start);
+            let freed: Vec<_> = left.iter().filter(|c| !cells.contains(c)).collect();
+            assert!(!freed.is_empty(), "the push moved {name} off its cells");
+            for c in freed {
+                let class = grid.class(*c).expect("cell in grid");
+                assert!(
+                    matches!(class, CellClass::Free | CellClass::Unknown),
+                    "{name} left cell {c:?} but it is {class:?}"
+                );
+            }
+        }
+    }
+    println!("{checked} object cells carry their push test's verdict");
+    assert!(scored.len() >= 2 && checked > 100);
 }

@@ -4,6 +4,7 @@ use nalgebra::Point2;
 use nudge_motion::planner::rrt_connect::RrtConnect;
 use nudge_motion::{BlockingConfig, Budget, PushConfig, RobotCylinder, Shortcut, ValidityConfig};
 use nudge_perception::PerceptionConfig;
+use nudge_perception::grid::{ColumnReduction, DEFAULT_RESOLUTION, GridConfig};
 
 use crate::config::ExecutiveConfig;
 
@@ -41,6 +42,53 @@ impl Default for PushMotionConfig {
     }
 }
 
+/// The obstacle-type grid the run keeps, and how it watches the path while walking.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridSetup {
+    /// Cell side (m). Default 50 mm.
+    pub resolution: f64,
+    /// Corners of the area the grid covers (map frame, m), e.g. the room. `None`: the box around the
+    /// start and the goal grown by [`Self::margin`] on every side.
+    pub area: Option<(Point2<f64>, Point2<f64>)>,
+    /// Growth of the start–goal box when no area is given (m). Default 4 m: a few rooms' worth.
+    pub margin: f64,
+    /// The passive rules' tuning.
+    pub rules: GridConfig,
+    /// How a colour range frame is reduced to beams (heights above the floor that block).
+    pub reduction: ColumnReduction,
+    /// Robot time between frames taken while walking a path (s). Default 1 s: a person at walking
+    /// speed moves 1–1.5 m in that time, within the camera's view ahead.
+    pub watch_period: f64,
+    /// Head tilt while walking (rad, down positive). Default 20°: the floor is in view from about
+    /// 1.8 m out to the range limit, so anything stepping onto the path ahead is seen.
+    pub watch_tilt: f64,
+    /// Share of an obstacle's footprint cells that must be passively Movable for it to count as known
+    /// movable without a push test. Default 0.3.
+    pub passive_share: f64,
+    /// Frames from a camera tilted further down than this (rad) stay out of the grid. A frame proves
+    /// a cell free only at the heights its rays pass through there; one whose upper edge dips below
+    /// the horizon sees the floor under a table top and then the top itself, which the passive rules
+    /// would take for something appearing. Default 22°: the SR-4000's upper edge (half of its 43.6°
+    /// vertical field) is then at or above the horizon.
+    pub max_tilt: f64,
+}
+
+impl Default for GridSetup {
+    fn default() -> Self {
+        Self {
+            resolution: DEFAULT_RESOLUTION,
+            area: None,
+            margin: 4.0,
+            rules: GridConfig::default(),
+            reduction: ColumnReduction::default(),
+            watch_period: 1.0,
+            watch_tilt: 20f64.to_radians(),
+            passive_share: 0.3,
+            max_tilt: 22f64.to_radians(),
+        }
+    }
+}
+
 /// A run's parameters.
 #[derive(Clone, Debug)]
 pub struct RunConfig {
@@ -68,6 +116,8 @@ pub struct RunConfig {
     pub blocking: BlockingConfig,
     /// How the hand pushes.
     pub push_motion: PushMotionConfig,
+    /// The obstacle-type grid.
+    pub grid: GridSetup,
     /// Clearance kept between the robot's cylinder and every obstacle when planning (m): the walk stops
     /// a little short of contact, and perception's footprints are a few millimetres off.
     pub clearance: f64,
@@ -100,6 +150,13 @@ impl RunConfig {
             push: PushConfig::default(),
             blocking: BlockingConfig::default(),
             push_motion: PushMotionConfig::default(),
+            grid: GridSetup {
+                reduction: ColumnReduction {
+                    max_height: robot.height,
+                    ..ColumnReduction::default()
+                },
+                ..GridSetup::default()
+            },
             clearance: 0.08,
             forget_after_floor_points: 30,
             structure_margin: 0.15,

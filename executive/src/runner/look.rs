@@ -38,9 +38,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.wait(|r| r.head_status())?;
             let cloud = self.robot.capture()?;
             self.observer.cloud(&cloud);
+            self.sense(&cloud);
             self.world.views.push(cloud);
         }
-        self.robot.start_point_head(0.0, 0.0)?;
+        self.publish_grid();
+        // Look ahead and down while walking, so the path ahead stays in view.
+        self.robot
+            .start_point_head(0.0, self.config.grid.watch_tilt)?;
         Ok(views.len())
     }
 

@@ -6,6 +6,7 @@
 //! request and the robot-time budget while anything runs. Nothing here reads the wall clock.
 
 mod config;
+mod grid;
 mod look;
 mod navigate;
 mod push;
@@ -19,7 +20,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-pub use config::{PushMotionConfig, RunConfig};
+pub use config::{GridSetup, PushMotionConfig, RunConfig};
 pub use report::{RunReport, TimelineEntry};
 use world::WorldModel;
 
@@ -101,6 +102,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// Runs until the machine reaches a terminal state and reports the outcome.
     pub fn run(&mut self) -> RunReport {
         self.start_time = self.robot.now();
+        self.start_grid();
         let mut timeline = Vec::new();
         let mut step = start();
         self.record(&mut timeline, &State::LookAround, &step);
@@ -119,6 +121,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             robot_time: self.robot.now() - self.start_time,
             timeline,
             obstacles: self.world.prisms.clone(),
+            grid: self.world.grid.clone(),
         }
     }
 
@@ -184,7 +187,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Command::WalkToPushPose(intent) => Some(self.walk_to_push_pose(intent)),
             Command::PushTest { intent, .. } => Some(self.push_test(intent)),
             Command::MarkVerdict {
-                target, verdict, ..
+                target,
+                verdict,
+                push_test,
             } => {
                 let stamp = self.robot.now();
                 self.observer.note(
@@ -192,6 +197,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     LogLevel::Info,
                     &format!("{target} marked {verdict:?}"),
                 );
+                self.mark_verdict(*target, verdict, *push_test);
                 None
             }
             Command::ClearPath(intent) => Some(self.clear_path(intent)),

@@ -1,14 +1,22 @@
 //! Planning paths and walking them.
 
 use nalgebra::Point2;
-use nudge_motion::{Path, Planner, Problem};
+use nudge_motion::{Path, Problem};
 
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::PushIntent;
 use crate::record::Observer;
-use crate::robot::{Robot, WalkOutcome};
+use crate::robot::{ActionStatus, Robot, WalkOutcome};
+
+/// How a watched walk ended.
+enum Watched {
+    /// The walk itself ended.
+    Walked(WalkOutcome),
+    /// The grid flagged the path (the walk is still going).
+    Replan(String),
+}
 
 /// Extra distance beyond the goal tolerance within which an arrival counts (m): the walk's own error.
 const ARRIVAL_SLACK: f64 = 0.05;
@@ -29,6 +37,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(path) => {
                 let stamp = self.robot.now();
                 self.observer.path(stamp, path.waypoints());
+                self.watch_path(path.waypoints());
                 let length = path.length();
                 self.world.path = Some(path);
                 Event::PathFound { length }
@@ -47,10 +56,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Some(t) => Problem::new(here, t, 0.03).map_err(|e| e.to_string())?,
             None => WorldModel::problem(&here, &self.config)?,
         };
-        let mut planner = self.config.planner;
-        let path = planner
-            .solve(&problem, &validity, self.config.budget, &mut self.rng)
-            .map_err(|e| e.to_string())?;
+        let (path, _, tree) = self.config.planner.solve_recorded(
+            &problem,
+            &validity,
+            self.config.budget,
+            &mut self.rng,
+        );
+        let stamp = self.robot.now();
+        self.observer.tree(stamp, &tree.edges);
+        let path = path.map_err(|e| e.to_string())?;
         Ok(self
             .config
             .shortcut
@@ -64,8 +78,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 reason: "no path to follow".into(),
             };
         };
-        match self.walk(path.waypoints()) {
-            Ok(WalkOutcome::Arrived) => match self.position() {
+        match self.walk_watching(path.waypoints()) {
+            Ok(Watched::Replan(reason)) => Event::PathInvalidated { reason },
+            Ok(Watched::Walked(WalkOutcome::Arrived)) => match self.position() {
                 Ok(p)
                     if (p - self.config.goal).norm()
                         <= self.config.goal_tolerance + ARRIVAL_SLACK =>
@@ -80,11 +95,38 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 },
                 Err(i) => i.into(),
             },
-            Ok(WalkOutcome::Blocked { .. }) => Event::WalkBlocked,
-            Ok(WalkOutcome::Stopped) => Event::PathInvalidated {
+            Ok(Watched::Walked(WalkOutcome::Blocked { .. })) => Event::WalkBlocked,
+            Ok(Watched::Walked(WalkOutcome::Stopped)) => Event::PathInvalidated {
                 reason: "the walk was stopped".into(),
             },
             Err(i) => i.into(),
+        }
+    }
+
+    /// Walks `waypoints` like [`Self::walk`], taking a frame into the grid every watch period; stops
+    /// watching (the walk goes on until the machine stops it) when the grid flags the path.
+    fn walk_watching(&mut self, waypoints: &[Point2<f64>]) -> Result<Watched, Interrupt> {
+        let rest = waypoints.get(1..).unwrap_or_default();
+        if rest.is_empty() {
+            return Ok(Watched::Walked(WalkOutcome::Arrived));
+        }
+        self.robot.start_walk(rest)?;
+        let mut next_frame = self.robot.now() + self.config.grid.watch_period;
+        loop {
+            if let ActionStatus::Done(outcome) = self.robot.walk_status()? {
+                return Ok(Watched::Walked(outcome));
+            }
+            if self.robot.now() >= next_frame {
+                next_frame += self.config.grid.watch_period;
+                let cloud = self.robot.capture()?;
+                self.observer.cloud(&cloud);
+                self.sense(&cloud);
+                self.publish_grid();
+                if let Some(reason) = self.replan_reason() {
+                    return Ok(Watched::Replan(reason));
+                }
+            }
+            self.tick()?;
         }
     }
 

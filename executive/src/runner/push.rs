@@ -123,7 +123,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     && icp.converged
                     && icp.displacement >= self.config.executive.classifier.still_below
                 {
-                    self.world.displace(intent.target, moved);
+                    self.displace(intent.target, moved);
                 }
                 reading.map(|r| r.0)
             }
@@ -186,7 +186,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.step_forward(direction, advance)?;
             }
         }
-        self.world.displace(intent.target, direction * moved);
+        self.displace(intent.target, direction * moved);
         let stamp = self.robot.now();
         self.observer.push(stamp, intent, Some(-direction * peak));
         Ok(Event::Cleared { moved })
@@ -282,6 +282,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.wait(|r| r.head_status())?;
         let cloud = self.robot.capture()?;
         self.observer.cloud(&cloud);
+        self.sense(&cloud);
         Ok(crop(
             &cloud.to_map(),
             prism,

@@ -80,7 +80,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .into_iter()
                 .map(|id| Candidate {
                     id,
-                    passively_movable: false,
+                    passively_movable: self
+                        .world
+                        .prisms
+                        .iter()
+                        .find(|p| p.id == id)
+                        .is_some_and(|p| self.passively_movable(p)),
                 })
                 .collect(),
         )

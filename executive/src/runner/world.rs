@@ -2,6 +2,7 @@
 
 use nalgebra::{Isometry3, Point2};
 use nudge_motion::{Bounds, Path, Problem, PushPlan, Validity};
+use nudge_perception::grid::ObstacleGrid;
 use nudge_perception::{ColourCloud, FloorModel, Prism};
 
 use super::config::RunConfig;
@@ -22,6 +23,8 @@ pub(crate) struct WorldModel {
     pub seen: Option<(Point2<f64>, Point2<f64>)>,
     /// The floor learnt at the first look (the floor does not change).
     pub floor: Option<FloorModel>,
+    /// The obstacle-type grid: every frame taken lands in it (`None` if it could not be made).
+    pub grid: Option<ObstacleGrid>,
 }
 
 /// Points higher than this are ignored when growing the seen box (m): ceilings, not rooms.
@@ -87,7 +90,17 @@ impl WorldModel {
         let grow = nalgebra::Vector2::repeat(clearance);
         let bounds =
             Bounds::new(bounds.min() - grow, bounds.max() + grow).map_err(|e| e.to_string())?;
-        Validity::new(cylinder, bounds, &self.prisms, config.validity).map_err(|e| e.to_string())
+        // Motion reads the grid: what it saw moving, and nothing perceived explains, is avoided too.
+        let mut obstacles = self.prisms.clone();
+        if let Some(grid) = &self.grid {
+            obstacles.extend(super::grid::moving_obstacles(
+                grid,
+                &self.prisms,
+                robot,
+                config.robot.radius,
+            ));
+        }
+        Validity::new(cylinder, bounds, &obstacles, config.validity).map_err(|e| e.to_string())
     }
 
     /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a

@@ -17,7 +17,10 @@ pub mod nearest;
 pub mod rrt;
 pub mod rrt_connect;
 pub mod sampler;
+pub mod search_tree;
 pub mod shortcut;
+
+pub use search_tree::SearchTree;
 
 /// How much work a planner may do: a deterministic stand-in for planning time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -198,6 +201,15 @@ impl Tree {
         self.parents.push(parent as u32);
         self.index.insert(&p, i);
         i
+    }
+
+    /// Every (parent, child) edge, in the order the children were added.
+    pub(crate) fn edges(&self) -> impl Iterator<Item = [Point2<f64>; 2]> + '_ {
+        self.parents
+            .iter()
+            .zip(&self.points)
+            .skip(1)
+            .map(|(&parent, &child)| [self.points[parent as usize], child])
     }
 
     /// Positions from the root to node `i`.

@@ -7,7 +7,7 @@ use nalgebra::Point2;
 use rand_chacha::ChaCha8Rng;
 
 use super::sampler::Sampling;
-use super::{Budget, Effort, Metered, NoPath, Planner, Tree, free_goal, steer};
+use super::{Budget, Effort, Metered, NoPath, Planner, SearchTree, Tree, free_goal, steer};
 use crate::path::Path;
 use crate::problem::Problem;
 use crate::validity::StateValidity;
@@ -113,7 +113,7 @@ fn connect(
 
 /// The tree to grow next: the smaller one (ties: the start tree), Kuffner and LaValle's balanced
 /// variant; it keeps one tree from stalling in a dead end while the other grows (−12 % work on Z).
-fn smaller(trees: &[Tree; 2]) -> usize {
+fn smaller(trees: &[Tree]) -> usize {
     usize::from(trees[1].len() < trees[0].len())
 }
 
@@ -138,10 +138,24 @@ impl RrtConnect {
         budget: Budget,
         rng: &mut ChaCha8Rng,
     ) -> (Result<Path, NoPath>, Effort) {
+        let (out, effort, _) = self.solve_recorded(problem, validity, budget, rng);
+        (out, effort)
+    }
+
+    /// [`Self::solve_with_effort`], also returning the trees it grew (empty when start or goal were in
+    /// collision): what a recording shows of the search.
+    pub fn solve_recorded(
+        &self,
+        problem: &Problem,
+        validity: &dyn StateValidity,
+        budget: Budget,
+        rng: &mut ChaCha8Rng,
+    ) -> (Result<Path, NoPath>, Effort, SearchTree) {
         let metered = Metered::new(validity, &budget);
         let mut iterations = 0;
-        let out = self.grow(problem, &metered, budget, rng, &mut iterations);
-        (out, metered.effort(iterations))
+        let mut trees = Vec::with_capacity(2);
+        let out = self.grow(problem, &metered, budget, rng, &mut iterations, &mut trees);
+        (out, metered.effort(iterations), SearchTree::of(&trees))
     }
 
     fn grow(
@@ -151,6 +165,7 @@ impl RrtConnect {
         budget: Budget,
         rng: &mut ChaCha8Rng,
         iterations: &mut usize,
+        trees: &mut Vec<Tree>,
     ) -> Result<Path, NoPath> {
         let goal = free_goal(problem, metered.inner(), rng)?;
         let start = problem.start();
@@ -162,10 +177,10 @@ impl RrtConnect {
         } else {
             0.5
         };
-        let mut trees = [
-            Tree::new(start, metered.bounds()),
-            Tree::new(goal, metered.bounds()),
-        ];
+        // The caller's vector, so the trees outlive every way out of the search.
+        trees.clear();
+        trees.push(Tree::new(start, metered.bounds()));
+        trees.push(Tree::new(goal, metered.bounds()));
         // trees[a] grows toward the sample; trees[1 - a] connects.
         let mut a = 0;
         let mut pending = None;
@@ -206,7 +221,7 @@ impl RrtConnect {
                     return Path::new(points).map_err(|_| out);
                 }
             }
-            a = smaller(&trees);
+            a = smaller(trees);
         }
         Err(NoPath::NotFound {
             iterations: budget.max_iterations,

@@ -30,6 +30,10 @@ pub struct Beam {
     pub end: Point2<f64>,
     /// Whether it ends in an obstacle.
     pub kind: BeamEnd,
+    /// Distance from the sensor (m) before which the beam proves no cell free: a camera tilted down
+    /// sees nothing below its lowest ray, so a low obstacle close by can hide under it. Zero for a
+    /// planar laser.
+    pub seen_from: f64,
 }
 
 /// One sensor sweep as 2D beams from a sensor position, in the map frame.
@@ -115,9 +119,22 @@ impl RangeFrame {
     }
 
     fn push(&mut self, end: Point2<f64>, kind: BeamEnd) -> bool {
-        let ok = end.x.is_finite() && end.y.is_finite();
+        self.push_beam(Beam {
+            end,
+            kind,
+            seen_from: 0.0,
+        })
+    }
+
+    /// Adds `beam`; one with a non-finite end or a negative or non-finite `seen_from` is skipped
+    /// (returns false).
+    pub fn push_beam(&mut self, beam: Beam) -> bool {
+        let ok = beam.end.x.is_finite()
+            && beam.end.y.is_finite()
+            && beam.seen_from.is_finite()
+            && beam.seen_from >= 0.0;
         if ok {
-            self.beams.push(Beam { end, kind });
+            self.beams.push(beam);
         }
         ok
     }
@@ -211,9 +228,11 @@ impl RangeFrame {
         let (w, h) = (cloud.width(), cloud.height());
         let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
         for u in 0..w {
-            // Nearest obstacle (squared horizontal distance, point) and farthest floor in this column.
+            // Nearest obstacle (squared horizontal distance, point), nearest and farthest floor in this
+            // column.
             let mut nearest: Option<(f32, f32, f32)> = None;
             let mut farthest_floor: Option<(f32, f32, f32)> = None;
+            let mut nearest_floor = f32::INFINITY;
             for v in 0..h {
                 let i = v * w + u;
                 let p = rot * nalgebra::Vector3::new(xs[i], ys[i], zs[i]) + shift;
@@ -226,6 +245,7 @@ impl RangeFrame {
                     continue;
                 }
                 if p.z < floor {
+                    nearest_floor = nearest_floor.min(r2);
                     if farthest_floor.is_none_or(|(d, _, _)| r2 > d) {
                         farthest_floor = Some((r2, p.x, p.y));
                     }
@@ -233,11 +253,18 @@ impl RangeFrame {
                     nearest = Some((r2, p.x, p.y));
                 }
             }
-            if let Some((_, x, y)) = nearest {
-                frame.push_hit(Point2::new(f64::from(x), f64::from(y)));
-            } else if let Some((_, x, y)) = farthest_floor {
-                frame.push_clear(Point2::new(f64::from(x), f64::from(y)));
-            }
+            // Below its lowest ray the column saw nothing: only from the nearest floor it saw on is the
+            // beam's way known to be clear at every height.
+            let (end, kind, end_r2) = match (nearest, farthest_floor) {
+                (Some((r2, x, y)), _) => (Point2::new(x, y), BeamEnd::Hit, r2),
+                (None, Some((r2, x, y))) => (Point2::new(x, y), BeamEnd::Clear, r2),
+                (None, None) => continue,
+            };
+            frame.push_beam(Beam {
+                end: end.cast::<f64>(),
+                kind,
+                seen_from: f64::from(nearest_floor.min(end_r2).sqrt()),
+            });
         }
         Ok(frame)
     }
@@ -299,6 +326,46 @@ mod tests {
         assert!((f.beams()[0].end - Point2::new(4.0, 0.0)).norm() < 1e-6);
         assert_eq!(f.beams()[1].kind, BeamEnd::Clear);
         assert!((f.beams()[1].end - Point2::new(3.5, 0.5)).norm() < 1e-6);
+    }
+
+    #[test]
+    fn a_column_proves_nothing_free_nearer_than_the_floor_it_saw() {
+        // Invariant: a camera column's beam proves cells free only from its nearest floor point on (a
+        // low obstacle under the lowest ray stays unknown), and a grid fed that beam leaves the near
+        // cells untouched while the far ones turn Free.
+        let pose =
+            Isometry3::from_parts(Translation3::new(0.0, 0.0, 1.4), UnitQuaternion::identity());
+        // One column: floor seen at 2 m and 4 m only (the lowest ray meets the floor at 2 m).
+        let cloud = ColourCloud::organised(
+            1,
+            2,
+            vec![2.0, 4.0],
+            vec![0.0, 0.0],
+            vec![-1.39, -1.39],
+            vec![[0; 3]; 2],
+            CloudFrame::Sensor,
+            pose,
+            0.0,
+        )
+        .expect("consistent arrays");
+        let f = RangeFrame::from_cloud(&cloud, &ColumnReduction::default()).expect("organised");
+        assert_eq!(f.beams().len(), 1);
+        assert!((f.beams()[0].seen_from - 2.0).abs() < 1e-6);
+        let mut grid =
+            crate::grid::ObstacleGrid::from_extent(Point2::new(-1.0, -1.0), [6.0, 2.0], 0.1)
+                .expect("valid grid");
+        grid.update(&f, 0.0).expect("in order");
+        let class = |x: f64| grid.class_at(Point2::new(x, 0.05)).expect("inside");
+        assert_eq!(
+            class(1.0),
+            crate::grid::CellClass::Unknown,
+            "under the lowest ray"
+        );
+        assert_eq!(
+            class(3.0),
+            crate::grid::CellClass::Free,
+            "between floor points"
+        );
     }
 
     #[test]

@@ -86,10 +86,19 @@ impl ObstacleGrid {
                     sensor + d * ((len - tail) / len)
                 }
             };
+            let length = (end - sensor).norm();
+            let t_seen = if length > 0.0 {
+                beam.seen_from / length
+            } else {
+                0.0
+            };
             for rc in Traversal::new(&self.geom, sensor, end) {
                 let i = rc.cell.y as usize * width + rc.cell.x as usize;
                 if Some(rc.cell) == hit_cell {
                     break;
+                }
+                if rc.t_exit <= t_seen {
+                    continue;
                 }
                 // Free cells seen free again need no classification: only list the others.
                 if l.record_crossing(i, f, rc.t_exit <= t_far) && l.class[i] != FREE {
