@@ -116,6 +116,8 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
     let r = read(&recording().mcap);
     let expected = [
         (topics::CLOUD, "foxglove.PointCloud"),
+        (topics::GRID, "foxglove.Grid"),
+        (topics::TREE, "foxglove.SceneUpdate"),
         (topics::PRISMS, "foxglove.SceneUpdate"),
         (topics::PATH, "foxglove.SceneUpdate"),
         (topics::PUSH, "foxglove.SceneUpdate"),
@@ -151,6 +153,9 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
         "detection before and after the clearing push"
     );
     assert!(n(topics::PATH) >= 1);
+    // The grid changes at least once per look-around; every path found comes with its search tree.
+    assert!(n(topics::GRID) >= 3, "{} grids", n(topics::GRID));
+    assert!(n(topics::TREE) >= 1, "no search tree");
     // Each push is announced when planned and drawn again with its force when done.
     assert!(
         n(topics::PUSH) >= 2 * tests,
@@ -359,7 +364,7 @@ fn a_run_interrupted_by_sigint_leaves_a_complete_recording() {
 
 #[test]
 fn the_map_shows_the_run_with_a_force_panel_per_push_test() {
-    // Invariant: --map writes a PNG with the robot's track, a movable verdict's colour and the red force limit of the push-test panels.
+    // Invariant: --map writes a PNG with the grid, the robot's track, a movable verdict's colour and the red force limit of the push-test panels.
     let rec = recording();
     assert!(
         rec.stdout.contains("push-test force panels"),
@@ -371,6 +376,11 @@ fn the_map_shows_the_run_with_a_force_panel_per_push_test() {
     let has = |rgb: [u8; 3]| image.pixels().any(|p| p.0 == rgb);
     assert!(has([150, 20, 160]), "the track's purple");
     assert!(has([40, 90, 230]), "a movable verdict's blue");
+    let unknown = image.pixels().filter(|p| p.0 == [215, 215, 215]).count();
+    assert!(
+        unknown > 10_000,
+        "the grid's unknown cells are drawn ({unknown} px)"
+    );
     assert!(has([255, 0, 0]), "the force limit's red");
     // The panels sit below the map: the bottom rows hold the force plots.
     let bottom = image.height() - 120;
