@@ -292,3 +292,57 @@ fn bad_paths_files_and_flags_give_a_clear_message_and_no_panic() {
         );
     }
 }
+
+#[test]
+fn a_cancelled_batch_keeps_every_finished_run_as_a_whole_line() {
+    // Invariant: SIGINT stops a batch with exit 4, and its result file holds only complete, readable lines, in run order.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out_path = dir.path().join("r.jsonl");
+    let child = Command::new(NUDGE)
+        .args([
+            "batch",
+            scenarios().join("open-room.toml").to_str().expect("utf-8"),
+            "--seeds",
+            "200",
+            "--jobs",
+            "1",
+            "--out",
+            out_path.to_str().expect("utf-8"),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("nudge starts");
+    // The first result line is written after the Ctrl-C handler is installed.
+    let mut waited = 0;
+    while std::fs::read_to_string(&out_path).map_or(true, |t| t.lines().count() == 0) {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        waited += 1;
+        assert!(waited < 2400, "no result line within two minutes");
+    }
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(kill.success());
+    let out = child.wait_with_output().expect("nudge ends");
+    let (stdout, stderr) = text(&out);
+    assert_eq!(out.status.code(), Some(4), "{stdout}{stderr}");
+    assert!(stderr.contains("batch cancelled"), "{stderr}");
+    let lines = without_wall_time(&out_path);
+    assert!(
+        !lines.is_empty() && lines.len() < 200,
+        "{} lines",
+        lines.len()
+    );
+    assert!(
+        lines.iter().all(|l| l["outcome"] == "goal"),
+        "the run cut short by Ctrl-C is not reported as aborted"
+    );
+    for (k, line) in lines.iter().enumerate() {
+        assert_eq!(
+            line["seed"].as_u64(),
+            lines[0]["seed"].as_u64().map(|s| s + k as u64)
+        );
+    }
+}

@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::pool::{Cancel, Job, run_all};
+use super::pool::{Cancel, Job, NotDone, run_all};
 use super::results::{RunLine, table};
 use super::source::{Source, expand};
 use super::{BatchArgs, EXIT_ABORTED, EXIT_INPUT, Shard};
@@ -81,7 +81,8 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
                 ));
                 Some(line)
             }
-            Err(e) => {
+            Err(NotDone::Cancelled) => None,
+            Err(NotDone::Failed(e)) => {
                 failures += 1;
                 bar.println(format!(
                     "nudge: {} seed {} failed: {e:#}",

@@ -29,7 +29,7 @@ pub const EXIT_FAILED: u8 = 5;
 
 /// nudge: a humanoid reaches a goal among unknown obstacles, pushing them to learn which move.
 #[derive(Parser, Debug)]
-#[command(name = "nudge", version, about)]
+#[command(name = "nudge", version)]
 pub struct Cli {
     #[command(subcommand)]
     command: Option<Command>,

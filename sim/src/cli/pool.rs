@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use nudge_executive::record::Observer;
 use nudge_executive::robot::Wrench;
-use nudge_executive::{CandidatePolicy, RunReport};
+use nudge_executive::{AbortReason, CandidatePolicy, RunReport, State};
 use nudge_sim::run::runner;
 use nudge_sim::scenario::Scenario;
 use nudge_sim::score::{Scored, score};
@@ -80,12 +80,26 @@ impl Observer for PeakForce {
     }
 }
 
+/// Why a job has no result.
+#[derive(Debug, thiserror::Error)]
+pub enum NotDone {
+    /// Ctrl-C stopped it before its end: it says nothing about the scenario.
+    #[error("cancelled")]
+    Cancelled,
+    /// Its world could not be built.
+    #[error(transparent)]
+    Failed(#[from] nudge_sim::world::WorldError),
+}
+
 /// Runs one job to its end and scores it.
-pub fn execute(job: &Job<'_>, cancel: &Cancel) -> anyhow::Result<Done> {
+pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
     let started = Instant::now();
     let mut runner = runner(job.scenario, job.seed, job.policy, PeakForce::default())?;
     cancel.watch(runner.cancel_flag());
     let report = runner.run();
+    if matches!(report.outcome, State::Aborted(AbortReason::Cancelled, _)) {
+        return Err(NotDone::Cancelled);
+    }
     let wall = started.elapsed().as_secs_f64();
     let (robot, peak) = runner.into_parts();
     let scored = score(&report, &robot);
@@ -103,7 +117,7 @@ pub fn run_all(
     jobs: &[Job<'_>],
     threads: usize,
     cancel: &Cancel,
-    mut on_done: impl FnMut(usize, anyhow::Result<Done>),
+    mut on_done: impl FnMut(usize, Result<Done, NotDone>),
 ) {
     let next = AtomicUsize::new(0);
     let (sender, receiver) = mpsc::channel();
