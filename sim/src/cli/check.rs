@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use nudge_sim::score::{Outcome, compare};
 
-use super::pool::{Cancel, Job, run_all};
+use super::pool::{Cancel, Done, Job, run_all};
 use super::source::{Source, expand};
 use super::{CheckArgs, EXIT_FAILED};
 
@@ -64,37 +64,48 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         &cancel,
         |j, result| {
             let row = match result {
+                Ok(done) => row(&jobs[j], &done),
                 Err(e) => Row::Error(format!("{e:#}")),
-                Ok(done) => {
-                    let outcome = Outcome::of(&done.report.outcome);
-                    let summary = format!(
-                        "{}, {} push tests, {:.1} s",
-                        outcome.word(),
-                        done.report.knowledge.push_tests,
-                        done.report.robot_time
-                    );
-                    match &jobs[j].scenario.expect {
-                        None => Row::NoExpect { summary },
-                        Some(expect) => {
-                            let differences: Vec<String> = compare(expect, outcome, &done.scored)
-                                .iter()
-                                .map(ToString::to_string)
-                                .collect();
-                            if differences.is_empty() {
-                                Row::Pass { summary }
-                            } else {
-                                Row::Fail {
-                                    summary,
-                                    differences,
-                                }
-                            }
-                        }
-                    }
-                }
             };
             rows[indices[j]] = Some(row);
         },
     );
+    let failed = print_table(&loaded, &rows);
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(EXIT_FAILED)
+    })
+}
+
+/// What a finished run came to against its scenario's `[expect]` block.
+fn row(job: &Job<'_>, done: &Done) -> Row {
+    let outcome = Outcome::of(&done.report.outcome);
+    let summary = format!(
+        "{}, {} push tests, {:.1} s",
+        outcome.word(),
+        done.report.knowledge.push_tests,
+        done.report.robot_time
+    );
+    let Some(expect) = &job.scenario.expect else {
+        return Row::NoExpect { summary };
+    };
+    let differences: Vec<String> = compare(expect, outcome, &done.scored)
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    if differences.is_empty() {
+        Row::Pass { summary }
+    } else {
+        Row::Fail {
+            summary,
+            differences,
+        }
+    }
+}
+
+/// Prints one line per scenario and the totals; returns how many failed (errors and cancelled included).
+fn print_table(loaded: &[(PathBuf, anyhow::Result<Source>)], rows: &[Option<Row>]) -> usize {
     let mut failed = 0;
     let mut unchecked = 0;
     let width = loaded
@@ -104,7 +115,7 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         .unwrap_or(8)
         .max(8);
     println!("{:<width$}  result    what happened", "scenario");
-    for ((path, _), row) in loaded.iter().zip(&rows) {
+    for ((path, _), row) in loaded.iter().zip(rows) {
         let name = path.display().to_string();
         match row {
             Some(Row::Pass { summary }) => println!("{name:<width$}  pass      {summary}"),
@@ -134,9 +145,5 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     }
     let passed = rows.len() - failed - unchecked;
     println!("\n{passed} passed, {failed} failed, {unchecked} without [expect]");
-    Ok(if failed == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(EXIT_FAILED)
-    })
+    failed
 }
