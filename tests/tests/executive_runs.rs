@@ -104,6 +104,36 @@ fn the_blocking_policy_needs_no_more_push_tests_than_nearest() {
 }
 
 #[test]
+fn the_blocking_policy_skips_the_nearest_obstacle_when_it_blocks_nothing() {
+    // Invariant: with a heavy cabinet beside the start and off every way, nearest tests it first and blocking never does, so blocking needs fewer push tests; both reach the goal with every verdict right.
+    let (nearest, scored_n) = run("cluttered-room", CandidatePolicy::Nearest);
+    let (blocking, scored_b) = run("cluttered-room", CandidatePolicy::Blocking);
+    for (report, scored) in [(&nearest, &scored_n), (&blocking, &scored_b)] {
+        assert_eq!(report.outcome, State::Goal);
+        assert_all_correct(scored);
+        assert_force_within_limit(report);
+    }
+    let first = nearest
+        .knowledge
+        .explanation
+        .tests
+        .first()
+        .map(|t| t.object);
+    assert_eq!(
+        first,
+        named(&scored_n, "cabinet").map(|s| s.id),
+        "nearest tests the cabinet first"
+    );
+    assert!(
+        named(&scored_b, "cabinet").is_none(),
+        "blocking never tests the cabinet"
+    );
+    let (b, n) = (blocking.knowledge.push_tests, nearest.knowledge.push_tests);
+    println!("push tests: blocking {b}, nearest {n}");
+    assert!(b < n, "blocking took {b} push tests, nearest {n}");
+}
+
+#[test]
 fn an_all_static_room_ends_in_no_path_with_every_blocking_object_tested() {
     // Invariant: with nothing movable the run ends in NoPathToGoal, every blocking object tested and found static.
     let (report, scored) = run("all-static", CandidatePolicy::Nearest);
