@@ -1,10 +1,11 @@
 //! End to end in the simulation: the executive against the paper's room and its variants, scored
 //! against ground truth.
 
-use nalgebra::{Isometry3, Point3, Vector3};
-use nudge_executive::record::NullObserver;
+use nalgebra::{Isometry3, Point2, Point3, Vector3};
+use nudge_executive::record::{NullObserver, Observer, RobotFrames};
 use nudge_executive::{CandidatePolicy, Edge, RunReport, State, Verdict};
 use nudge_perception::grid::{CellClass, CellIndex, Evidence};
+use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::truth::Truth;
 use nudge_tests::truth::{Scored, score};
@@ -160,6 +161,55 @@ fn an_open_room_reaches_the_goal_without_a_push() {
     let (report, scored) = run("open-room", CandidatePolicy::Nearest);
     assert_eq!(report.outcome, State::Goal);
     assert!(scored.is_empty() && report.knowledge.push_tests == 0);
+}
+
+/// Records where the robot's base was at every tick.
+#[derive(Default)]
+struct Track(Vec<(f64, Point2<f64>)>);
+
+impl Observer for Track {
+    fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
+        self.0
+            .push((stamp, Point2::from(frames.base.translation.vector)));
+    }
+}
+
+#[test]
+fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
+    // Invariant: when a person stops on the path being walked, the grid's replanning flag stops the walk and the robot reaches the goal around them, never closer than the two radii and never blocked.
+    let scenario = nudge_tests::scenario("person-crossing").expect("scenario loads");
+    let (report, _, track) = nudge_sim::run::run(
+        &scenario,
+        scenario.seed,
+        CandidatePolicy::Nearest,
+        Track::default(),
+    )
+    .expect("world builds");
+    for t in &report.timeline {
+        println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
+    }
+    assert_eq!(report.outcome, State::Goal);
+    let edges: Vec<Edge> = report.timeline.iter().map(|t| t.edge).collect();
+    assert!(
+        edges.contains(&Edge::PathInvalidated),
+        "the grid flagged the path"
+    );
+    assert!(
+        !edges.contains(&Edge::WalkBlocked),
+        "the walk never ran into the person"
+    );
+    let person = &scenario.actors[0];
+    let plan = Plan::new(person).expect("valid actor");
+    let closest = track
+        .0
+        .iter()
+        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
+        .fold(f64::INFINITY, f64::min);
+    println!("closest approach to the person: {closest:.2} m");
+    assert!(
+        closest >= scenario.robot.radius + person.radius,
+        "{closest:.2} m"
+    );
 }
 
 #[test]
