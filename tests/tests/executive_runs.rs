@@ -176,7 +176,7 @@ impl Observer for Track {
 
 #[test]
 fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
-    // Invariant: when a person stops on the path being walked, the grid's replanning flag stops the walk and the robot reaches the goal around them, never closer than the two radii and never blocked.
+    // Invariant: when a person stops on the path being walked, the grid's replanning flag stops the walk, the robot looks again and reaches the goal around them, never closer than the two radii and never blocked.
     let scenario = nudge_tests::scenario("person-crossing").expect("scenario loads");
     let (report, _, track) = nudge_sim::run::run(
         &scenario,
