@@ -43,7 +43,8 @@ pub enum Edge {
     NoPath,
     /// Navigate → Goal.
     ReachedGoal,
-    /// Navigate → PlanPath: the grid flagged the path or a new obstacle lies on it.
+    /// Navigate → LookAround: the grid flagged the path or a new obstacle lies on it; the walk stops and
+    /// the robot looks again, so the new obstacle becomes an obstacle the planner and the push test know.
     PathInvalidated,
     /// Navigate → LookAround: the robot reported its walk blocked.
     WalkBlocked,
@@ -219,8 +220,8 @@ pub fn transition(
         (State::Navigate, Event::PathInvalidated { .. }) => replan(
             k,
             config,
-            State::PlanPath,
-            vec![Command::StopWalk, Command::PlanPath],
+            State::LookAround,
+            vec![Command::StopWalk, Command::LookAround],
             Edge::PathInvalidated,
         ),
         (State::Navigate, Event::WalkBlocked) => replan(

@@ -141,10 +141,10 @@ cases! {
         assert!(s.state.is_terminal() && s.commands.is_empty());
         s.edge
     }
-    an_invalidated_path_stops_and_replans => {
-        // Invariant: the grid's replanning flag stops the walk, replans and counts the replan.
+    an_invalidated_path_stops_and_looks_again => {
+        // Invariant: the grid's replanning flag stops the walk, looks again before replanning, and counts the replan.
         let s = run(State::Navigate, &Knowledge::default(), Event::PathInvalidated { reason: "moving cell".into() });
-        assert_eq!((s.state, s.commands), (State::PlanPath, vec![Command::StopWalk, Command::PlanPath]));
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::StopWalk, Command::LookAround]));
         assert_eq!(s.knowledge.replans, 1);
         s.edge
     }

@@ -9,7 +9,11 @@ use crate::adapter::SimRobot;
 use crate::scenario::Scenario;
 use crate::world::WorldError;
 
-/// The run configuration a scenario implies: its robot's cylinder, its goal, the seed and the policy.
+/// How far the obstacle-type grid reaches past the room's inner walls (m): the walls' own cells.
+const GRID_MARGIN: f64 = 0.5;
+
+/// The run configuration a scenario implies: its robot's cylinder, its goal, the seed, the policy and
+/// a grid over its room.
 pub fn run_config(scenario: &Scenario, seed: u64, policy: CandidatePolicy) -> RunConfig {
     let robot = RobotCylinder {
         radius: scenario.robot.radius,
@@ -18,6 +22,10 @@ pub fn run_config(scenario: &Scenario, seed: u64, policy: CandidatePolicy) -> Ru
     let goal = Point2::new(scenario.goal.position[0], scenario.goal.position[1]);
     let mut config = RunConfig::new(robot, goal, scenario.goal.tolerance, seed);
     config.executive.policy = policy;
+    // The grid covers the room and a margin for its walls, as Tamura sizes it from the map.
+    let margin = nalgebra::Vector2::repeat(GRID_MARGIN);
+    let room = Point2::new(scenario.room.size[0], scenario.room.size[1]);
+    config.grid.area = Some((Point2::origin() - margin, room + margin));
     config
 }
 

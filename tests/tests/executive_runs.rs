@@ -1,10 +1,11 @@
 //! End to end in the simulation: the executive against the paper's room and its variants, scored
 //! against ground truth.
 
-use nalgebra::{Isometry3, Point3, Vector3};
-use nudge_executive::record::NullObserver;
+use nalgebra::{Isometry3, Point2, Point3, Vector3};
+use nudge_executive::record::{NullObserver, Observer, RobotFrames};
 use nudge_executive::{CandidatePolicy, Edge, RunReport, State, Verdict};
 use nudge_perception::grid::{CellClass, CellIndex, Evidence};
+use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::truth::Truth;
 use nudge_tests::truth::{Scored, score};
@@ -104,6 +105,36 @@ fn the_blocking_policy_needs_no_more_push_tests_than_nearest() {
 }
 
 #[test]
+fn the_blocking_policy_skips_the_nearest_obstacle_when_it_blocks_nothing() {
+    // Invariant: with a heavy cabinet beside the start and off every way, nearest tests it first and blocking never does, so blocking needs fewer push tests; both reach the goal with every verdict right.
+    let (nearest, scored_n) = run("cluttered-room", CandidatePolicy::Nearest);
+    let (blocking, scored_b) = run("cluttered-room", CandidatePolicy::Blocking);
+    for (report, scored) in [(&nearest, &scored_n), (&blocking, &scored_b)] {
+        assert_eq!(report.outcome, State::Goal);
+        assert_all_correct(scored);
+        assert_force_within_limit(report);
+    }
+    let first = nearest
+        .knowledge
+        .explanation
+        .tests
+        .first()
+        .map(|t| t.object);
+    assert_eq!(
+        first,
+        named(&scored_n, "cabinet").map(|s| s.id),
+        "nearest tests the cabinet first"
+    );
+    assert!(
+        named(&scored_b, "cabinet").is_none(),
+        "blocking never tests the cabinet"
+    );
+    let (b, n) = (blocking.knowledge.push_tests, nearest.knowledge.push_tests);
+    println!("push tests: blocking {b}, nearest {n}");
+    assert!(b < n, "blocking took {b} push tests, nearest {n}");
+}
+
+#[test]
 fn an_all_static_room_ends_in_no_path_with_every_blocking_object_tested() {
     // Invariant: with nothing movable the run ends in NoPathToGoal, every blocking object tested and found static.
     let (report, scored) = run("all-static", CandidatePolicy::Nearest);
@@ -130,6 +161,55 @@ fn an_open_room_reaches_the_goal_without_a_push() {
     let (report, scored) = run("open-room", CandidatePolicy::Nearest);
     assert_eq!(report.outcome, State::Goal);
     assert!(scored.is_empty() && report.knowledge.push_tests == 0);
+}
+
+/// Records where the robot's base was at every tick.
+#[derive(Default)]
+struct Track(Vec<(f64, Point2<f64>)>);
+
+impl Observer for Track {
+    fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
+        self.0
+            .push((stamp, Point2::from(frames.base.translation.vector)));
+    }
+}
+
+#[test]
+fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
+    // Invariant: when a person stops on the path being walked, the grid's replanning flag stops the walk, the robot looks again and reaches the goal around them, never closer than the two radii and never blocked.
+    let scenario = nudge_tests::scenario("person-crossing").expect("scenario loads");
+    let (report, _, track) = nudge_sim::run::run(
+        &scenario,
+        scenario.seed,
+        CandidatePolicy::Nearest,
+        Track::default(),
+    )
+    .expect("world builds");
+    for t in &report.timeline {
+        println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
+    }
+    assert_eq!(report.outcome, State::Goal);
+    let edges: Vec<Edge> = report.timeline.iter().map(|t| t.edge).collect();
+    assert!(
+        edges.contains(&Edge::PathInvalidated),
+        "the grid flagged the path"
+    );
+    assert!(
+        !edges.contains(&Edge::WalkBlocked),
+        "the walk never ran into the person"
+    );
+    let person = &scenario.actors[0];
+    let plan = Plan::new(person).expect("valid actor");
+    let closest = track
+        .0
+        .iter()
+        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
+        .fold(f64::INFINITY, f64::min);
+    println!("closest approach to the person: {closest:.2} m");
+    assert!(
+        closest >= scenario.robot.radius + person.radius,
+        "{closest:.2} m"
+    );
 }
 
 #[test]

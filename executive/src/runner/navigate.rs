@@ -1,7 +1,7 @@
 //! Planning paths and walking them.
 
-use nalgebra::Point2;
-use nudge_motion::{Path, Problem};
+use nalgebra::{Point2, Vector2};
+use nudge_motion::{Path, Problem, StateValidity};
 
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
@@ -9,6 +9,25 @@ use crate::event::Event;
 use crate::push_test::PushIntent;
 use crate::record::Observer;
 use crate::robot::{ActionStatus, Robot, WalkOutcome};
+
+/// Farthest the robot steps to get clear of an obstacle that seems to overlap it (m).
+const ESCAPE_RADIUS: f64 = 0.25;
+
+/// The free position nearest `here` within [`ESCAPE_RADIUS`], searched on rings 5 cm apart with 32
+/// bearings each (deterministic), if any.
+fn nearest_free(here: &Point2<f64>, validity: &dyn StateValidity) -> Option<Point2<f64>> {
+    const RINGS: usize = 5;
+    const BEARINGS: usize = 32;
+    (1..=RINGS).find_map(|ring| {
+        let r = ESCAPE_RADIUS * ring as f64 / RINGS as f64;
+        (0..BEARINGS)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / BEARINGS as f64;
+                here + Vector2::new(a.cos(), a.sin()) * r
+            })
+            .find(|p| validity.is_free(p))
+    })
+}
 
 /// How a watched walk ended.
 enum Watched {
@@ -52,9 +71,18 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// A shortcut path from `here` to the goal, or to `target` within 3 cm when given.
     fn plan_to(&mut self, here: Point2<f64>, target: Option<Point2<f64>>) -> Result<Path, String> {
         let validity = self.world.validity(&here, &self.config)?;
+        // Where an obstacle seems to overlap the robot (someone stepped up to it, or a hull is a few
+        // centimetres generous), plan from the nearest free spot and step there first.
+        let start = if validity.is_free(&here) {
+            here
+        } else {
+            nearest_free(&here, &validity).ok_or_else(|| {
+                format!("the start is in collision and no free spot lies within {ESCAPE_RADIUS} m")
+            })?
+        };
         let problem = match target {
-            Some(t) => Problem::new(here, t, 0.03).map_err(|e| e.to_string())?,
-            None => WorldModel::problem(&here, &self.config)?,
+            Some(t) => Problem::new(start, t, 0.03).map_err(|e| e.to_string())?,
+            None => WorldModel::problem(&start, &self.config)?,
         };
         let (path, _, tree) = self.config.planner.solve_recorded(
             &problem,
@@ -65,10 +93,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let stamp = self.robot.now();
         self.observer.tree(stamp, &tree.edges);
         let path = path.map_err(|e| e.to_string())?;
-        Ok(self
+        let path = self
             .config
             .shortcut
-            .shorten(&path, &validity, &mut self.rng))
+            .shorten(&path, &validity, &mut self.rng);
+        if start == here {
+            return Ok(path);
+        }
+        let mut waypoints = vec![here];
+        waypoints.extend_from_slice(path.waypoints());
+        Path::new(waypoints).map_err(|e| e.to_string())
     }
 
     /// Walks the planned path to the goal.
@@ -174,5 +208,52 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     fn turn_to(&mut self, yaw: f64) -> Result<WalkOutcome, Interrupt> {
         self.robot.start_turn(yaw)?;
         self.wait(|r| r.walk_status())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nudge_motion::{Bounds, RobotCylinder, Validity, ValidityConfig};
+    use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
+
+    fn validity_with_box(x0: f64) -> Validity {
+        let square = Prism {
+            id: ObjectId(1),
+            footprint: vec![
+                Point2::new(x0, -1.0),
+                Point2::new(x0 + 1.0, -1.0),
+                Point2::new(x0 + 1.0, 1.0),
+                Point2::new(x0, 1.0),
+            ],
+            z_min: 0.0,
+            z_max: 1.0,
+            points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
+        };
+        let robot = RobotCylinder {
+            radius: 0.35,
+            height: 1.5,
+        };
+        let bounds =
+            Bounds::new(Point2::new(-5.0, -5.0), Point2::new(5.0, 5.0)).expect("valid bounds");
+        Validity::new(robot, bounds, &[square], ValidityConfig::default()).expect("valid world")
+    }
+
+    #[test]
+    fn a_robot_overlapping_an_obstacle_steps_to_the_nearest_free_spot() {
+        // Invariant: the escape point is free, within the escape radius, on the nearest ring that has one, and none is offered when the overlap is deeper than the radius.
+        let here = Point2::origin();
+        // The box's face is 0.3 m ahead: the 0.35 m disc overlaps it by 5 cm.
+        let v = validity_with_box(0.3);
+        assert!(!v.is_free(&here));
+        let p = nearest_free(&here, &v).expect("a free spot within reach");
+        assert!(v.is_free(&p));
+        let d = (p - here).norm();
+        assert!(
+            (d - 0.05).abs() < 1e-9,
+            "stepped {d} m, the first ring is free"
+        );
+        // The face 0.1 m behind the robot's centre: 0.45 m of overlap, more than the radius.
+        assert_eq!(nearest_free(&here, &validity_with_box(-0.1)), None);
     }
 }

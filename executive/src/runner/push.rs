@@ -13,6 +13,11 @@ use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
 /// Camera height assumed when aiming the head (m); the aim only has to put the object in view.
 const AIM_HEIGHT: f64 = 1.4;
 
+/// Clear strokes start this far beyond the body's radius (m): room for the hand and the walk's margin.
+const STROKE_STANDOFF: f64 = 0.12;
+/// Approach gap before a face whose position the hand measured (m): it is known within a centimetre.
+const MEASURED_GAP: f64 = 0.03;
+
 /// What one guarded stroke measured.
 struct Stroke {
     outcome: HandOutcome,
@@ -112,6 +117,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let from_x = (contact.x - motion.approach_gap).max(motion.near);
         let to_x = (contact.x + motion.test_travel).min(motion.reach);
         let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height)?;
+        if stroke.contact {
+            let base = self.robot.base_pose()?.value;
+            self.world.touched = Some((intent.target, base * Point2::new(stroke.end_x, contact.y)));
+        }
         self.retract()?;
         let direction = intent.direction.into_inner();
         let icp = match (&prism, before) {
@@ -154,8 +163,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     fn run_clear_path(&mut self, intent: &PushIntent) -> Result<Event, Interrupt> {
         const MAX_STROKES: usize = 12;
         let motion = self.config.push_motion.clone();
-        let face = self.contact_in_base(intent)?;
         let direction = intent.direction.into_inner();
+        // The face on the push line, in the map: where the push test's hand left it, else the plan's.
+        let (mut face_map, mut measured) = match self.world.touched {
+            Some((id, at)) if id == intent.target => (at, true),
+            _ => {
+                let base = self.robot.base_pose()?.value;
+                (base * self.contact_in_base(intent)?, false)
+            }
+        };
+        // Strokes start this close to the body axis: as long as the arm can push in one go.
+        let stroke_start = (self.config.robot.radius + STROKE_STANDOFF).max(motion.near);
         let mut moved = 0.0;
         let mut peak: f64 = 0.0;
         for _ in 0..MAX_STROKES {
@@ -163,7 +181,20 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             if remaining <= 0.02 {
                 break;
             }
-            let from_x = (face.x - motion.approach_gap).max(motion.near);
+            let mut base = self.robot.base_pose()?.value;
+            let ahead = base.inverse_transform_point(&face_map).x - stroke_start;
+            if ahead > 0.02 {
+                // Walk after the object so the next stroke is a long one.
+                self.step_forward(direction, ahead)?;
+                base = self.robot.base_pose()?.value;
+            }
+            let face = base.inverse_transform_point(&face_map);
+            let gap = if measured {
+                MEASURED_GAP
+            } else {
+                motion.approach_gap
+            };
+            let from_x = (face.x - gap).max(motion.near);
             let to_x = (face.x + remaining).min(motion.reach);
             let stroke = self.stroke(from_x, to_x, face.y, intent.hand_height)?;
             peak = peak.max(stroke.peak_force);
@@ -175,15 +206,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     moved,
                 });
             }
-            if !stroke.contact {
-                // The object is out of reach: step up to it.
-                self.step_forward(direction, (to_x - face.x).max(0.05))?;
-                continue;
-            }
-            // Walk after the object so its face is back where the stroke started from.
-            let advance = stroke.end_x - face.x;
-            if advance > 0.01 && moved + 0.02 < intent.distance {
-                self.step_forward(direction, advance)?;
+            if stroke.contact {
+                face_map = base * Point2::new(stroke.end_x, face.y);
+                measured = true;
+            } else {
+                // The object is beyond the stroke: step up to it and search again.
+                face_map += direction * (to_x - face.x).max(0.05);
+                measured = false;
             }
         }
         self.displace(intent.target, direction * moved);

@@ -25,6 +25,9 @@ pub(crate) struct WorldModel {
     pub floor: Option<FloorModel>,
     /// The obstacle-type grid: every frame taken lands in it (`None` if it could not be made).
     pub grid: Option<ObstacleGrid>,
+    /// Where the hand last ended a stroke in contact with an object (map frame): that object's face on
+    /// the push line, measured rather than perceived.
+    pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
 }
 
 /// Points higher than this are ignored when growing the seen box (m): ceilings, not rooms.
