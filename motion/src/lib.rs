@@ -4,7 +4,7 @@
 //! ([`validity`], with the obstacles of [`obstacle`] in a [`broad_phase`] grid), the problem
 //! ([`problem`]) and the planners ([`planner`]), so that a new planner is one file and a benchmark can
 //! run every planner on one problem. On top of them: which obstacles block the way ([`blocking`]) and
-//! where and how to push one ([`push`]).
+//! where and how to push one ([`push`]), and a cheap proof that no path exists ([`reach`]).
 //!
 //! The robot is a vertical cylinder, so its configuration for collision is its position in the plane;
 //! SE(2) poses appear where heading matters (standing in front of a face to push it).
@@ -17,6 +17,7 @@ pub mod path;
 pub mod planner;
 pub mod problem;
 pub mod push;
+pub mod reach;
 pub mod space;
 pub mod validity;
 
@@ -28,5 +29,6 @@ pub use path::{Path, PathError};
 pub use planner::{Budget, NoPath, Planner, rrt::Rrt, rrt_connect::RrtConnect, shortcut::Shortcut};
 pub use problem::{GoalRegion, Problem, ProblemError};
 pub use push::{PushConfig, PushError, PushPlan, plan_push};
+pub use reach::certainly_unreachable;
 pub use space::{Bounds, SpaceError};
 pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};

@@ -20,6 +20,7 @@ use crate::planner::rrt_connect::RrtConnect;
 use crate::planner::shortcut::Shortcut;
 use crate::planner::{Budget, Planner};
 use crate::problem::{GoalRegion, Problem};
+use crate::reach::certainly_unreachable;
 use crate::space::pose;
 use crate::validity::{StateValidity, Validity, ValidityError};
 
@@ -374,6 +375,11 @@ fn plan(
     rng: &mut ChaCha8Rng,
 ) -> Option<Path> {
     let problem = Problem::new(*from, *to, tolerance).ok()?;
+    // Most pushes tried do not open the way; proving that takes a flood fill, not a planner's
+    // whole budget.
+    if certainly_unreachable(validity, from, problem.goal()) {
+        return None;
+    }
     let mut planner = config.planner;
     let path = planner.solve(&problem, validity, config.budget, rng).ok()?;
     Some(config.shortcut.shorten(&path, validity, rng))

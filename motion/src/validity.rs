@@ -233,6 +233,19 @@ impl Validity {
         nearest - self.robot.radius
     }
 
+    /// Whether the robot standing at `p` overlaps a blocking obstacle by more than `margin` (m): then
+    /// every position within `margin` of `p` overlaps it too (the distance to a footprint changes no
+    /// faster than the position). Walls are not counted.
+    pub fn deeper_than(&self, p: &Point2<f64>, margin: f64) -> bool {
+        let reach = self.robot.radius - margin;
+        if reach.is_nan() || reach <= 0.0 {
+            return false;
+        }
+        self.grid.any(&segment_box(p, p), |i| {
+            self.obstacles[i].distance_to_point(p) < reach
+        })
+    }
+
     /// The blocking obstacles the robot standing at `p` overlaps, in the order they were given.
     pub fn colliding(&self, p: &Point2<f64>) -> Vec<ObjectId> {
         self.hits_along(p, p)

@@ -1,9 +1,16 @@
 //! The elevation map (Kakiuchi et al. 2010, §IV-C): non-floor points binned into square cells.
 //!
-//! Each cell keeps its point count, its lowest and highest point (heights above the floor) and the eight
-//! extreme points of its xy footprint (along ±x, ±y and both diagonals), from which a cluster's convex
-//! hull is built without revisiting every point. Cells with fewer than
-//! [`ElevationConfig::min_points_per_cell`] points are measurement error and are not occupied.
+//! Each cell keeps its point count, its lowest and highest point (heights above the floor), a robust
+//! height of its top and the eight extreme points of its xy footprint (along ±x, ±y and both
+//! diagonals), from which a cluster's convex hull is built without revisiting every point. Cells with
+//! fewer than [`ElevationConfig::min_points_per_cell`] points are measurement error and are not occupied.
+//!
+//! **Robust top.** Range noise (σ ≈ 4–10 mm in the room) scatters a flat surface's points above and
+//! below it, so a cell's highest point sits a few σ above the surface, and the highest of a cluster's
+//! thousands of points higher still: a 1 cm mat's highest point is near 3 cm. A cell's top is therefore
+//! the median of its points within [`ElevationConfig::top_band`] of its highest point: on a flat top
+//! that is the surface itself (the median of noise is zero); on a sloped or vertical face that reaches
+//! the cell's top it lies at most half the band below it.
 //!
 //! Storage is sparse: a dense `u32` index over the bounding rows × columns points into a compact list of
 //! touched cells, so a 380,000-point look-around costs one pass over the points.
@@ -29,6 +36,11 @@ pub struct ElevationConfig {
     /// Points farther than this from the map centre given to [`ElevationMap::build`] are ignored (m);
     /// it bounds the grid whatever stray point the sensor returns. Default 12.0.
     pub max_range: f64,
+    /// A cell's robust top ([`Cell::z_top`]) is the median of its points at most this far below its
+    /// highest point (m). Default 0.03: wider than the spread of a flat top's points at the room's
+    /// ranges (±2.5σ of the ≈ 5 mm vertical noise), so a flat top's median is the surface itself,
+    /// and small enough that a vertical face's median stays within 15 mm of its upper edge.
+    pub top_band: f64,
 }
 
 impl Default for ElevationConfig {
@@ -39,6 +51,7 @@ impl Default for ElevationConfig {
             min_height: -0.05,
             max_height: 3.0,
             max_range: 12.0,
+            top_band: 0.03,
         }
     }
 }
@@ -68,6 +81,10 @@ pub struct Cell {
     pub z_min: f32,
     /// Highest point's height above the floor (m).
     pub z_max: f32,
+    /// Robust height of the cell's top above the floor (m): the median of its points within
+    /// [`ElevationConfig::top_band`] of [`Cell::z_max`]. Noise lifts the highest point a few σ above
+    /// the surface; this median stays on it.
+    pub z_top: f32,
     /// The cell's extreme points in the map frame's xy plane, one per direction (−x, +x, −y, +y,
     /// −(x+y), +(x+y), −(x−y), +(x−y)). Their convex hull is the cell's points' hull up to a few mm.
     pub extremes: [[f32; 2]; 8],
@@ -81,6 +98,7 @@ impl Cell {
             count: 1,
             z_min: h,
             z_max: h,
+            z_top: h,
             extremes: [[x, y]; 8],
         }
     }
@@ -134,7 +152,9 @@ impl ElevationMap {
             && config.max_range.is_finite()
             && config.max_range > 0.0
             && config.min_height.is_finite()
-            && config.max_height.is_finite();
+            && config.max_height.is_finite()
+            && config.top_band.is_finite()
+            && config.top_band >= 0.0;
         if !ok {
             return Err(PerceptionError::InvalidInput(format!(
                 "elevation map input out of range: floor_z {floor_z}, centre {centre:?}, {config:?}"
@@ -227,6 +247,13 @@ impl ElevationMap {
             }
             point_cell[i] = *slot;
         }
+        robust_tops(
+            &mut cells,
+            &point_cell,
+            zs,
+            floor_z32,
+            config.top_band as f32,
+        );
         Ok(Self {
             origin,
             cell_size: cell,
@@ -302,6 +329,46 @@ impl ElevationMap {
     }
 }
 
+/// Sets every cell's [`Cell::z_top`]: the median of its points' heights within `band` of its highest.
+///
+/// The heights are gathered per cell by a counting sort over `point_cell` (one pass, in point order, so
+/// the result does not depend on anything but the points).
+fn robust_tops(cells: &mut [Cell], point_cell: &[u32], zs: &[f32], floor_z: f32, band: f32) {
+    let mut start = vec![0usize; cells.len() + 1];
+    for &k in point_cell {
+        if k != NO_CELL {
+            start[k as usize + 1] += 1;
+        }
+    }
+    for k in 0..cells.len() {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut heights = vec![0.0f32; start[cells.len()]];
+    for (&k, &z) in point_cell.iter().zip(zs) {
+        if k != NO_CELL {
+            heights[fill[k as usize]] = z - floor_z;
+            fill[k as usize] += 1;
+        }
+    }
+    let mut band_heights: Vec<f32> = Vec::new();
+    for (k, cell) in cells.iter_mut().enumerate() {
+        let lowest_kept = cell.z_max - band;
+        band_heights.clear();
+        band_heights.extend(
+            heights[start[k]..start[k + 1]]
+                .iter()
+                .copied()
+                .filter(|&h| h >= lowest_kept),
+        );
+        let mid = band_heights.len() / 2;
+        if mid < band_heights.len() {
+            let (_, median, _) = band_heights.select_nth_unstable_by(mid, f32::total_cmp);
+            cell.z_top = *median;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -338,6 +405,60 @@ mod tests {
         assert!((c.z_min - 0.1).abs() < 1e-6 && (c.z_max - 0.4).abs() < 1e-6);
         assert!(map.is_occupied(dense));
         assert_eq!(map.occupied_count(), 1);
+    }
+
+    /// Seeded Gaussian draws of standard deviation `sigma` (Box–Muller).
+    fn gaussians(n: usize, sigma: f32, seed: u64) -> Vec<f32> {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        (0..n)
+            .map(|_| {
+                let u: f32 = 1.0 - rng.random::<f32>();
+                let t: f32 = rng.random::<f32>() * std::f32::consts::TAU;
+                sigma * (-2.0 * u.ln()).sqrt() * t.cos()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_flat_noisy_top_has_its_robust_top_on_the_surface_not_at_the_highest_point() {
+        // Invariant: on a flat 1 cm top with σ = 5 mm of height noise, every cell's z_top is within
+        // 5 mm of 1 cm while the highest points stand well above it.
+        let noise = gaussians(1600, 0.005, 7);
+        let points: Vec<[f32; 3]> = (0..1600)
+            .map(|k| {
+                let (i, j) = (k / 40, k % 40);
+                let (x, y) = (0.005 * i as f32 + 0.001, 0.005 * j as f32 + 0.001);
+                [x, y, 0.01 + noise[k]]
+            })
+            .collect();
+        let map = ElevationMap::build(
+            &cloud_of(&points),
+            0.0,
+            Point2::origin(),
+            &ElevationConfig::default(),
+        )
+        .expect("valid input");
+        let highest = map.cells().iter().map(|c| c.z_max).fold(0.0, f32::max);
+        assert!(highest > 0.018, "the noise reaches {highest}");
+        for c in map.cells() {
+            assert!((c.z_top - 0.01).abs() < 0.005, "cell top {}", c.z_top);
+        }
+    }
+
+    #[test]
+    fn a_vertical_face_keeps_its_robust_top_within_half_the_band_of_its_edge() {
+        // Invariant: a cell holding a vertical face from 0.45 to 0.85 m (a chair back seen from the
+        // front) has z_top below z_max by at most half the top band, and never above it.
+        let points: Vec<[f32; 3]> = (0..=80)
+            .map(|k| [0.02, 0.02, 0.45 + 0.005 * k as f32])
+            .collect();
+        let config = ElevationConfig::default();
+        let map = ElevationMap::build(&cloud_of(&points), 0.0, Point2::origin(), &config)
+            .expect("valid input");
+        let c = &map.cells()[0];
+        assert!((c.z_max - 0.85).abs() < 1e-5);
+        assert!(c.z_top <= c.z_max && c.z_max - c.z_top <= 0.5 * config.top_band as f32 + 1e-5);
     }
 
     #[test]

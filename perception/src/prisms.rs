@@ -12,9 +12,12 @@
 //! U of three walls becomes straight wall segments plus small corner pieces; a chair or a table, whose
 //! hull is about its cells, is never cut.
 //!
-//! Heights are measured from the floor: `z_max` is the highest point, `z_min` the lowest (above zero
-//! for an overhang such as a shelf or a pipe). Nothing inflates them: a 1 cm mat gives a prism about
-//! 1 cm tall (its cells are "low" and cluster apart, see [`crate::segment`]).
+//! Heights are measured from the floor. `z_max` is the highest of the cells' robust tops
+//! ([`crate::elevation::Cell::z_top`]): the highest single point would be the surface plus the largest
+//! of thousands of noise draws (a 1 cm mat would be 3 cm tall), while the highest cell median is the
+//! surface plus a few millimetres. `z_min` is the lowest point (above zero for an overhang such as a
+//! shelf or a pipe): erring low there only makes the overhang count as an obstacle sooner. A 1 cm mat
+//! gives a prism about 1 cm tall (its cells are "low" and cluster apart, see [`crate::segment`]).
 
 use std::collections::HashSet;
 
@@ -143,7 +146,7 @@ pub fn build_prisms(
                 .fold(f32::INFINITY, f32::min);
             let z_max = cells
                 .iter()
-                .map(|&k| cs[k as usize].z_max)
+                .map(|&k| cs[k as usize].z_top)
                 .fold(f32::NEG_INFINITY, f32::max);
             Prism {
                 id: ObjectId(n as u32),

@@ -34,7 +34,7 @@ fn centroid(poly: &[Point2<f64>]) -> Point2<f64> {
 
 #[test]
 fn one_look_around_gives_one_prism_per_object_with_the_true_footprint_and_height() {
-    // Invariant: after one look-around each true object has exactly one prism, IoU ≥ 0.8, top within 40 mm; walls appear; the mat is no taller than itself + 2 cm.
+    // Invariant: after one look-around each true object has exactly one prism, IoU ≥ 0.8, top within 40 mm; walls appear; the 1 cm mat's prism is at most 1.5 cm tall.
     let scenario = nudge_tests::scenario("kakiuchi-room").expect("scenario");
     let mut robot = SimRobot::new(&scenario, scenario.seed).expect("world");
     let (clouds, base) = look_around(&mut robot);
@@ -62,8 +62,14 @@ fn one_look_around_gives_one_prism_per_object_with_the_true_footprint_and_height
             object.name, prism.z_max
         );
         if object.is_flat() {
+            // The mat is 1 cm; its prism's top is the highest of its cells' robust tops (the median
+            // of each cell's top points). Vertical range noise there is σ ≈ 5 mm, a mat cell holds
+            // ten or more points, so a cell median errs by ≈ 2 mm (1.25 σ / √n) and the highest of
+            // the mat's ~150 cell medians by ≈ 2.5 of those: 5 mm over the true top. (The highest
+            // single point, the old top, was 2.8 cm.)
+            const MAT_TOP_TOLERANCE: f64 = 0.005;
             assert!(
-                prism.z_max <= top + 0.02,
+                prism.z_max <= top + MAT_TOP_TOLERANCE,
                 "{}: the mat became {:.3} m tall",
                 object.name,
                 prism.z_max

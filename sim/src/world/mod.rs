@@ -1,10 +1,14 @@
 //! The simulated world: a rapier scene built from a scenario (Z up), with the humanoid, the actors
 //! and the wrist sensor, advanced in physics steps whose length adapts to what is going on.
 //!
-//! Stepping: 1 ms steps while the hand is on a guarded line or touching something (the guarded-move
-//! check runs every step), 10 ms steps otherwise, aligned to a 10 ms grid; when no body is commanded
-//! to move (the head has none) and every dynamic body sleeps, time passes without a physics step.
-//! The wrist sensor samples at its own rate throughout, holding the last step's wrench.
+//! Stepping: 1 ms steps while the hand touches something, or is on a guarded line within
+//! [`NEAR_CONTACT`] of something it could touch (the guarded-move check runs every step, and every
+//! contact is resolved at the wrist sensor's 1 kHz); 10 ms steps otherwise, aligned to a 10 ms grid.
+//! A guarded line's first centimetres through free air are stepped like the unguarded move to its
+//! start: nothing can touch the hand within a coarse step there, so no contact force is skipped.
+//! When no body is commanded to move (the head has none) and every dynamic body sleeps, time passes
+//! without a physics step. The wrist sensor samples at its own rate throughout, holding the last
+//! step's wrench.
 
 pub mod build;
 pub mod convert;
@@ -30,6 +34,10 @@ pub const FINE_SUBSTEPS: usize = 2;
 pub const COARSE_SUBSTEPS: usize = 4;
 /// Physics step otherwise (µs).
 pub const COARSE_STEP_US: u64 = 10_000;
+/// A hand on a guarded line steps finely once anything it can touch is this close (m, between
+/// bounding boxes). A coarse step moves the hand at most 5 mm along a line (0.5 m/s, the fastest
+/// guarded move) plus 1.5 mm with the walking base: 5 cm is ten coarse steps of warning.
+pub const NEAR_CONTACT: f32 = 0.05;
 /// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
 /// presses on something that does not give (three times the paper's 20 N push limit).
 pub const HAND_OVERLOAD: f64 = 60.0;
@@ -297,16 +305,32 @@ impl World {
         Ok(())
     }
 
-    /// Whether the hand is on a guarded line or touching something: then the force changes fast and
-    /// the guard and the sensor need every millisecond.
+    /// Whether the hand touches something, or is on a guarded line close to something: then the
+    /// force changes fast and the guard and the sensor need every millisecond.
     fn needs_fine_steps(&self) -> bool {
         let hand = self.humanoid.parts().hand_collider;
-        self.humanoid.arm().on_guarded_line()
-            || self
-                .physics
-                .narrow_phase
-                .contact_pairs_with(hand)
-                .any(|p| p.has_any_active_contact())
+        let touching = self
+            .physics
+            .narrow_phase
+            .contact_pairs_with(hand)
+            .any(|p| p.has_any_active_contact());
+        touching || (self.humanoid.arm().on_guarded_line() && self.hand_near_something(hand))
+    }
+
+    /// Whether anything the hand can touch has a bounding box within [`NEAR_CONTACT`] of the hand's
+    /// (conservative: boxes overlap before shapes do). A missing hand counts as near.
+    fn hand_near_something(&self, hand: ColliderHandle) -> bool {
+        let Some(collider) = self.physics.colliders.get(hand) else {
+            return true;
+        };
+        let reach = collider.compute_aabb().loosened(NEAR_CONTACT);
+        let filter = QueryFilter::new()
+            .groups(collider.collision_groups())
+            .exclude_collider(hand);
+        self.physics
+            .intersect_aabb_conservative(reach, filter)
+            .next()
+            .is_some()
     }
 
     /// One physics step of `h_us` microseconds.
