@@ -1,7 +1,7 @@
 //! Planning paths and walking them.
 
 use nalgebra::{Point2, Vector2};
-use nudge_motion::{Path, Problem, StateValidity};
+use nudge_motion::{Path, Problem, StateValidity, certainly_unreachable};
 
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
@@ -84,6 +84,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Some(t) => Problem::new(start, t, 0.03).map_err(|e| e.to_string())?,
             None => WorldModel::problem(&start, &self.config)?,
         };
+        // A flood fill proves most "no path" cases at once; the planner would spend its whole budget.
+        if certainly_unreachable(&validity, &problem.start(), problem.goal()) {
+            return Err(
+                "no free way joins the start to the goal region (flood fill over 5 cm cells)".into(),
+            );
+        }
         let (path, _, tree) = self.config.planner.solve_recorded(
             &problem,
             &validity,
