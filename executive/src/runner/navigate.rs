@@ -87,7 +87,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // A flood fill proves most "no path" cases at once; the planner would spend its whole budget.
         if certainly_unreachable(&validity, &problem.start(), problem.goal()) {
             return Err(
-                "no free way joins the start to the goal region (flood fill over 5 cm cells)".into(),
+                "no free way joins the start to the goal region (flood fill over 5 cm cells)"
+                    .into(),
             );
         }
         let (path, _, tree) = self.config.planner.solve_recorded(
