@@ -12,11 +12,13 @@
 //! U of three walls becomes straight wall segments plus small corner pieces; a chair or a table, whose
 //! hull is about its cells, is never cut.
 //!
-//! Heights are measured from the floor. `z_max` is the highest of the cells' robust tops
-//! ([`crate::elevation::Cell::z_top`]): the highest single point would be the surface plus the largest
-//! of thousands of noise draws (a 1 cm mat would be 3 cm tall), while the highest cell median is the
-//! surface plus a few millimetres. `z_min` is the lowest point (above zero for an overhang such as a
-//! shelf or a pipe): erring low there only makes the overhang count as an obstacle sooner. A 1 cm mat
+//! Heights are measured from the floor. `z_max` is the height of the piece's top surface: the median
+//! of the robust tops ([`crate::elevation::Cell::z_top`]) of the cells within
+//! [`PrismConfig::top_band`] of the highest. The highest single point would be the surface plus the
+//! largest of thousands of noise draws (a 1 cm mat would be 3 cm tall), the highest cell median the
+//! surface plus a few millimetres; the median over the top surface is unbiased. `z_min` is the lowest
+//! point (above zero for an overhang such as a shelf or a pipe): erring low there only makes the
+//! overhang count as an obstacle sooner. A 1 cm mat
 //! gives a prism about 1 cm tall (its cells are "low" and cluster apart, see [`crate::segment`]).
 
 use std::collections::HashSet;
@@ -58,6 +60,10 @@ pub struct PrismConfig {
     /// Pieces no higher than this (m) are low (mats; see [`crate::segment::SegmentConfig::low_height`])
     /// and never merge with tall ones, so a mat never lends its area to furniture. Default 0.05.
     pub low_height: f32,
+    /// Cells whose robust top lies within this (m) of a piece's highest make up its top surface, whose
+    /// median height is the prism's top. Default 0.03: three times the vertical range noise of a
+    /// near surface, well under the 40 cm between a chair's seat and the top of its back.
+    pub top_band: f32,
 }
 
 impl Default for PrismConfig {
@@ -72,6 +78,7 @@ impl Default for PrismConfig {
             fragment_area: 0.01,
             fragment_gap: 0.1,
             low_height: 0.05,
+            top_band: 0.03,
         }
     }
 }
@@ -144,10 +151,8 @@ pub fn build_prisms(
                 .iter()
                 .map(|&k| cs[k as usize].z_min)
                 .fold(f32::INFINITY, f32::min);
-            let z_max = cells
-                .iter()
-                .map(|&k| cs[k as usize].z_top)
-                .fold(f32::NEG_INFINITY, f32::max);
+            let tops: Vec<f32> = cells.iter().map(|&k| cs[k as usize].z_top).collect();
+            let z_max = top_surface(&tops, config.top_band);
             Prism {
                 id: ObjectId(n as u32),
                 footprint,
@@ -157,6 +162,24 @@ pub fn build_prisms(
             }
         })
         .collect()
+}
+
+/// The height of a cluster's top surface from its cells' robust tops: the median of the cell tops
+/// within `band` of the highest. The highest cell top alone is the surface plus the largest of many
+/// cells' noise (a few millimetres on a flat top); the median over the cells that make up the top
+/// surface is unbiased, while cells of a lower part (a chair's seat below its back) are left out.
+fn top_surface(tops: &[f32], band: f32) -> f32 {
+    let highest = tops.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+    let mut surface: Vec<f32> = tops
+        .iter()
+        .copied()
+        .filter(|&t| t >= highest - band)
+        .collect();
+    if surface.is_empty() {
+        return highest;
+    }
+    let mid = surface.len() / 2;
+    *surface.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 /// Merges pieces of different clusters (and the same height class) whose footprints mostly overlap,
@@ -372,6 +395,16 @@ fn drop_close_vertices(hull: Vec<Point2<f64>>, eps: f64) -> Vec<Point2<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_top_surface_is_the_median_of_the_cells_near_the_highest() {
+        // Invariant: the prism top is the median of the cell tops within the band of the highest (a flat top's noise averages out) and lower parts (a seat under a back) do not pull it down.
+        let flat = [0.009, 0.010, 0.011, 0.0105, 0.0095];
+        assert!((top_surface(&flat, 0.03) - 0.010).abs() < 1e-6);
+        let chair = [0.45, 0.45, 0.46, 0.44, 0.85, 0.84, 0.86];
+        assert!((top_surface(&chair, 0.03) - 0.85).abs() < 1e-6);
+        assert_eq!(top_surface(&[0.7], 0.03), 0.7);
+    }
 
     #[test]
     fn degenerate_point_sets_get_a_thin_ccw_footprint() {
