@@ -18,8 +18,8 @@
 //! largest of thousands of noise draws (a 1 cm mat would be 3 cm tall), the highest cell median the
 //! surface plus a few millimetres; the median over the top surface is unbiased. `z_min` is the lowest
 //! point (above zero for an overhang such as a shelf or a pipe): erring low there only makes the
-//! overhang count as an obstacle sooner. A 1 cm mat
-//! gives a prism about 1 cm tall (its cells are "low" and cluster apart, see [`crate::segment`]).
+//! overhang count as an obstacle sooner. A 1 cm mat gives a prism 1 cm tall (its cells are "low" and
+//! cluster apart, see [`crate::segment`]).
 
 use std::collections::HashSet;
 
