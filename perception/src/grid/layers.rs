@@ -164,10 +164,11 @@ impl Layers {
 /// History byte `bits` stamped at frame `last`, read at frame `f`.
 #[inline]
 pub(crate) fn at(bits: u8, last: u32, f: u32) -> u8 {
-    match f.checked_sub(last) {
-        Some(d) if last != 0 && d < 8 => bits << d,
-        _ => 0,
-    }
+    // Branch-free (this runs once per crossed cell): a shift by 8 empties the byte, and a stamp from
+    // the future wraps to a huge distance.
+    let d = f.wrapping_sub(last);
+    let shift = if last == 0 || d >= 8 { 8 } else { d };
+    (u32::from(bits) << shift) as u8
 }
 
 #[cfg(test)]

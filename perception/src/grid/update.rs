@@ -18,6 +18,13 @@ pub(crate) struct Scratch {
     decisions: Vec<(u32, HitDecision)>,
     motion: Vec<(i32, i32)>,
     new_moving: Vec<u32>,
+    /// This frame's visible area as a bitmap (bit `i % 64` of word `i / 64` is cell `i`): [crossed,
+    /// crossed well before the return]. The walk only sets bits here, in an array small enough to stay
+    /// in cache (an eighth of a byte per cell where the cells' histories take twelve); each crossed
+    /// cell's history is then updated once, in row-major order. All zero between frames.
+    seen: Vec<[u64; 2]>,
+    /// The first and last row this frame's walks visited (rows bound the bitmap words to fold).
+    rows: Option<(usize, usize)>,
 }
 
 impl ObstacleGrid {
@@ -53,10 +60,14 @@ impl ObstacleGrid {
         let f = self.frame;
         let sensor = frame.sensor();
         s.hits.clear();
-        s.crossed.clear();
         let margin = self.cfg.clear_margin;
         let tail = self.cfg.clear_tail;
         let width = self.geom.width();
+        let n_words = self.geom.len().div_ceil(64);
+        if s.seen.len() != n_words {
+            s.seen = vec![[0; 2]; n_words];
+        }
+        s.rows = None;
         let l = &mut self.layers;
         for beam in frame.beams() {
             let hit_cell = match beam.kind {
@@ -86,21 +97,63 @@ impl ObstacleGrid {
                     sensor + d * ((len - tail) / len)
                 }
             };
+            let seen = s.seen.as_mut_slice();
+            let mut rows = None;
             for rc in Traversal::new(&self.geom, sensor, end) {
-                let i = rc.cell.y as usize * width + rc.cell.x as usize;
                 if Some(rc.cell) == hit_cell {
                     break;
                 }
-                // Free cells seen free again need no classification: only list the others.
-                if l.record_crossing(i, f, rc.t_exit <= t_far) && l.class[i] != FREE {
-                    s.crossed.push(i as u32);
+                let i = rc.cell.y as usize * width + rc.cell.x as usize;
+                if let Some(word) = seen.get_mut(i >> 6) {
+                    let bit = 1u64 << (i & 63);
+                    word[0] |= bit;
+                    word[1] |= if rc.t_exit <= t_far { bit } else { 0 };
                 }
+                rows = Some(rows.map_or((rc.cell.y, rc.cell.y), |(a, _)| (a, rc.cell.y)));
+            }
+            if let Some((a, b)) = rows {
+                let (a, b) = (a as usize, b as usize);
+                let rows = (a.min(b), a.max(b));
+                s.rows = Some(
+                    s.rows
+                        .map_or(rows, |(lo, hi)| (lo.min(rows.0), hi.max(rows.1))),
+                );
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
             if let Some(c) = hit_cell {
                 let i = c.y as usize * width + c.x as usize;
                 if l.record_hit(i, f) {
                     s.hits.push(i as u32);
+                }
+            }
+        }
+        self.record_crossings(s);
+    }
+
+    /// Folds the frame's visible-area bitmaps into the cells' histories (once per crossed cell, in
+    /// row-major order, however many rays crossed it) and lists the crossed cells that are not free
+    /// for classification; leaves the bitmaps zeroed.
+    fn record_crossings(&mut self, s: &mut Scratch) {
+        let f = self.frame;
+        s.crossed.clear();
+        let Some((lo, hi)) = s.rows else {
+            return;
+        };
+        let (width, n) = (self.geom.width(), self.geom.len());
+        let words = lo * width / 64..((hi + 1) * width).div_ceil(64).min(s.seen.len());
+        let l = &mut self.layers;
+        for k in words {
+            let [mut bits, far] = std::mem::take(&mut s.seen[k]);
+            while bits != 0 {
+                let b = bits.trailing_zeros();
+                bits &= bits - 1;
+                let i = k * 64 + b as usize;
+                if i >= n {
+                    break;
+                }
+                // Free cells seen free again need no classification: only list the others.
+                if l.record_crossing(i, f, far >> b & 1 != 0) && l.class[i] != FREE {
+                    s.crossed.push(i as u32);
                 }
             }
         }
