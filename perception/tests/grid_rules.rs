@@ -21,6 +21,7 @@ fn grid() -> ObstacleGrid {
         rest_radius: 0.3,
         clear_margin: 0.3,
         clear_tail: 0.0,
+        free_gap: 0.0,
     };
     ObstacleGrid::new(geom, cfg)
 }

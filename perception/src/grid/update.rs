@@ -3,8 +3,8 @@
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{BeamEnd, RangeFrame};
-use super::layers::NO_OBJECT;
-use super::rules::{self, HitDecision, free_space, movable};
+use super::layers::{Crossing, NO_OBJECT};
+use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::Traversal;
 use super::{GridError, ObstacleGrid};
 
@@ -14,15 +14,17 @@ const FREE: u8 = CellClass::Free as u8;
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Scratch {
     hits: Vec<u32>,
+    /// The moving rule's quiet neighbourhood (cells) of each return in `hits`.
+    quiet: Vec<u8>,
     crossed: Vec<u32>,
     decisions: Vec<(u32, HitDecision)>,
     motion: Vec<(i32, i32)>,
     new_moving: Vec<u32>,
     /// This frame's visible area as a bitmap (bit `i % 64` of word `i / 64` is cell `i`): [crossed,
-    /// crossed well before the return]. The walk only sets bits here, in an array small enough to stay
+    /// crossed at least the free gap before the return, crossed well before it]. The walk only sets bits here, in an array small enough to stay
     /// in cache (an eighth of a byte per cell where the cells' histories take twelve); each crossed
     /// cell's history is then updated once, in row-major order. All zero between frames.
-    seen: Vec<[u64; 2]>,
+    seen: Vec<[u64; 3]>,
     /// The first and last row this frame's walks visited (rows bound the bitmap words to fold).
     rows: Option<(usize, usize)>,
 }
@@ -48,7 +50,8 @@ impl ObstacleGrid {
         let mut s = std::mem::take(&mut self.scratch);
         self.traverse(frame, &mut s);
         self.stamp_previous_motion();
-        self.classify_returns(now, &mut s);
+        let sensor = self.geom.grid_coords(frame.sensor());
+        self.classify_returns(now, sensor, &mut s);
         self.classify_crossed(now, &s);
         self.expire_motion(&mut s);
         self.scratch = s;
@@ -60,12 +63,14 @@ impl ObstacleGrid {
         let f = self.frame;
         let sensor = frame.sensor();
         s.hits.clear();
-        let margin = self.cfg.clear_margin;
+        s.quiet.clear();
+        let step = mean_beam_step(frame);
+        let (margin, gap) = (self.cfg.clear_margin, self.cfg.free_gap);
         let tail = self.cfg.clear_tail;
         let width = self.geom.width();
         let n_words = self.geom.len().div_ceil(64);
         if s.seen.len() != n_words {
-            s.seen = vec![[0; 2]; n_words];
+            s.seen = vec![[0; 3]; n_words];
         }
         s.rows = None;
         let l = &mut self.layers;
@@ -76,12 +81,13 @@ impl ObstacleGrid {
             };
             // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The end of a
             // clear beam is not a surface, so all its crossings are far.
-            let t_far = match beam.kind {
-                BeamEnd::Hit => {
-                    let len = (beam.end - sensor).norm();
-                    if len > 0.0 { 1.0 - margin / len } else { -1.0 }
-                }
-                BeamEnd::Clear => f64::INFINITY,
+            // Likewise "free" when it goes on at least `free_gap`: nearer than that to the return, the
+            // ray may be crossing the returned surface itself (range noise).
+            let len = (beam.end - sensor).norm();
+            let (t_free, t_far) = match beam.kind {
+                BeamEnd::Hit if len > 0.0 => (1.0 - gap / len, 1.0 - margin / len),
+                BeamEnd::Hit => (-1.0, -1.0),
+                BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
             };
             // The last `clear_tail` of a beam without a return is not counted as seen: at the range limit
             // (or the farthest floor point) a return may just have dropped out, and a wall entering the
@@ -107,7 +113,8 @@ impl ObstacleGrid {
                 if let Some(word) = seen.get_mut(i >> 6) {
                     let bit = 1u64 << (i & 63);
                     word[0] |= bit;
-                    word[1] |= if rc.t_exit <= t_far { bit } else { 0 };
+                    word[1] |= if rc.t_exit <= t_free { bit } else { 0 };
+                    word[2] |= if rc.t_exit <= t_far { bit } else { 0 };
                 }
                 rows = Some(rows.map_or((rc.cell.y, rc.cell.y), |(a, _)| (a, rc.cell.y)));
             }
@@ -124,6 +131,8 @@ impl ObstacleGrid {
                 let i = c.y as usize * width + c.x as usize;
                 if l.record_hit(i, f) {
                     s.hits.push(i as u32);
+                    let r = moving::quiet_radius(len, step, self.geom.resolution());
+                    s.quiet.push(r as u8);
                 }
             }
         }
@@ -143,7 +152,7 @@ impl ObstacleGrid {
         let words = lo * width / 64..((hi + 1) * width).div_ceil(64).min(s.seen.len());
         let l = &mut self.layers;
         for k in words {
-            let [mut bits, far] = std::mem::take(&mut s.seen[k]);
+            let [mut bits, free, far] = std::mem::take(&mut s.seen[k]);
             while bits != 0 {
                 let b = bits.trailing_zeros();
                 bits &= bits - 1;
@@ -152,7 +161,14 @@ impl ObstacleGrid {
                     break;
                 }
                 // Free cells seen free again need no classification: only list the others.
-                if l.record_crossing(i, f, far >> b & 1 != 0) && l.class[i] != FREE {
+                let how = if far >> b & 1 != 0 {
+                    Crossing::Far
+                } else if free >> b & 1 != 0 {
+                    Crossing::Free
+                } else {
+                    Crossing::Near
+                };
+                if l.record_crossing(i, f, how) && l.class[i] != FREE {
                     s.crossed.push(i as u32);
                 }
             }
@@ -172,13 +188,14 @@ impl ObstacleGrid {
     }
 
     /// Tamura's Fig. 5 for every return of the frame, then the rest test, then the writes.
-    fn classify_returns(&mut self, now: f64, s: &mut Scratch) {
+    fn classify_returns(&mut self, now: f64, sensor: (f64, f64), s: &mut Scratch) {
         let f = self.frame;
         s.decisions.clear();
         s.motion.clear();
         let w = self.geom.width();
-        for &i in &s.hits {
-            let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f);
+        for (&i, &quiet) in s.hits.iter().zip(&s.quiet) {
+            let around = (usize::from(quiet), sensor);
+            let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f, around);
             if let HitDecision::Set(CellClass::Moving, _) = d {
                 s.motion
                     .push(((i as usize % w) as i32, (i as usize / w) as i32));
@@ -237,7 +254,9 @@ impl ObstacleGrid {
             let active = is_active(l.evidence[i]);
             let to_free = match class {
                 CellClass::Free => None,
-                CellClass::Unknown | CellClass::Moving => Some(Rule::SeenFree),
+                CellClass::Unknown | CellClass::Moving => {
+                    (l.crossed(i, f) & 1 != 0).then_some(Rule::SeenFree)
+                }
                 CellClass::Movable if !active => {
                     movable::deleted(l, &self.geom, i, f).then_some(Rule::MovableDeletion)
                 }
@@ -282,5 +301,31 @@ impl ObstacleGrid {
         self.layers.evidence[i] = pack_rule(rule);
         self.layers.object[i] = NO_OBJECT;
         self.check_watch(i, old, class, now);
+    }
+}
+
+/// The mean angle (rad) between consecutive beams of `frame`, which come in bearing order from a
+/// scanner or a camera's columns; 0 for fewer than two beams. Missing columns only widen it, which
+/// widens the moving rule's quiet neighbourhood: the safe side.
+fn mean_beam_step(frame: &RangeFrame) -> f64 {
+    let o = frame.sensor();
+    let beams = frame.beams();
+    let sum: f64 = beams
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (w[0].end - o, w[1].end - o);
+            let n = a.norm() * b.norm();
+            // The sine: the angle itself for beams a fraction of a degree apart, and cheap.
+            if n > 0.0 {
+                (a.perp(&b) / n).abs().min(1.0)
+            } else {
+                0.0
+            }
+        })
+        .sum();
+    if beams.len() > 1 && sum.is_finite() {
+        sum / (beams.len() - 1) as f64
+    } else {
+        0.0
     }
 }

@@ -30,13 +30,21 @@ pub(crate) enum HitDecision {
     ExtendUnlessMotion,
 }
 
-/// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`).
-pub(crate) fn decide_hit(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> HitDecision {
+/// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`);
+/// `quiet` is the moving rule's neighbourhood for this return ([`moving::quiet_radius`]) and `sensor`
+/// the sensor's continuous grid coordinates.
+pub(crate) fn decide_hit(
+    l: &Layers,
+    g: &GridGeometry,
+    i: usize,
+    f: u32,
+    (quiet, sensor): (usize, (f64, f64)),
+) -> HitDecision {
     if super::evidence::is_active(l.evidence[i]) && l.class[i] != CellClass::Free as u8 {
         return HitDecision::Keep;
     }
     let class = CellClass::from_code(l.class[i]).unwrap_or(CellClass::Unknown);
-    if moving::appeared_in_free_space(l, g, i, f) {
+    if moving::appeared_in_free_space(l, g, i, f, quiet, sensor) {
         return HitDecision::Set(CellClass::Moving, Rule::Moving);
     }
     if movable::retained(class) {

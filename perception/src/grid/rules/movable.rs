@@ -79,6 +79,7 @@ pub(crate) fn deleted(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::layers::Crossing;
     use nalgebra::Point2;
 
     fn grid() -> (GridGeometry, Layers) {
@@ -118,9 +119,9 @@ mod tests {
     fn deletion_needs_a_far_crossing_and_no_return_around() {
         // Invariant: only a crossing well before the return, with no return in the 3×3 block, deletes.
         let (g, mut l) = grid();
-        l.record_crossing(44, 4, false);
+        l.record_crossing(44, 4, Crossing::Free);
         assert!(!deleted(&l, &g, 44, 4));
-        l.record_crossing(44, 5, true);
+        l.record_crossing(44, 5, Crossing::Far);
         assert!(deleted(&l, &g, 44, 5));
         l.record_hit(45, 5);
         assert!(
