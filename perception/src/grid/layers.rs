@@ -44,6 +44,11 @@ pub(crate) struct Layers {
     pub track: Vec<Track>,
     /// Frame stamp: the cell lies near a cell that was moving in the previous frame.
     pub near_moving: Vec<u32>,
+    /// Frame stamp: the cell lies near a cell whose motion was confirmed in the previous frame.
+    pub near_confirmed: Vec<u32>,
+    /// Frame stamp: the cell was moving in that frame and near motion of the frame before
+    /// (confirmed motion).
+    pub confirmed: Vec<u32>,
     /// Watch generation stamp: the cell is on the executive's current path.
     pub watch: Vec<u32>,
     /// Robot-clock stamp of every frame, by frame number (entry 0: "never", NaN). 8 bytes per frame:
@@ -61,6 +66,8 @@ impl Layers {
             marked_at: vec![f64::NAN; n],
             track: vec![Track::default(); n],
             near_moving: vec![0; n],
+            near_confirmed: vec![0; n],
+            confirmed: vec![0; n],
             watch: vec![0; n],
             stamps: vec![f64::NAN],
         }

@@ -181,9 +181,14 @@ impl ObstacleGrid {
         let r = (self.cfg.moving_step / self.geom.resolution())
             .ceil()
             .max(1.0) as usize;
-        let near = &mut self.layers.near_moving;
+        let l = &mut self.layers;
         for &i in &self.moving {
-            self.geom.for_square(i as usize, r, |j| near[j] = f);
+            self.geom
+                .for_square(i as usize, r, |j| l.near_moving[j] = f);
+            if l.confirmed[i as usize] == f - 1 {
+                self.geom
+                    .for_square(i as usize, r, |j| l.near_confirmed[j] = f);
+            }
         }
     }
 
@@ -232,6 +237,9 @@ impl ObstacleGrid {
             }
             if class == CellClass::Moving {
                 s.new_moving.push(i as u32);
+                if self.layers.near_moving[i] == f {
+                    self.layers.confirmed[i] = f;
+                }
             }
             self.write_passive(i, class, rule, now);
         }
@@ -286,6 +294,9 @@ impl ObstacleGrid {
             self.geom.for_3x3(i, |j| returned_around |= l.hit_in(j, f));
             if returned_around && !l.crossed_in(i, f) {
                 s.new_moving.push(i as u32);
+                if l.confirmed[i] == f - 1 {
+                    self.layers.confirmed[i] = f;
+                }
             } else {
                 self.layers.class[i] = CellClass::Unknown as u8;
                 self.layers.evidence[i] = pack_rule(Rule::MovingExpired);

@@ -55,11 +55,14 @@ pub(crate) fn decide_hit(
         return HitDecision::ExtendUnlessMotion;
     }
     if class != CellClass::Stationary && moving::near_previous_motion(l, i, f) {
-        return if rested {
-            HitDecision::RestCandidate
-        } else {
-            HitDecision::Set(CellClass::Moving, Rule::MovingContinued)
-        };
+        if !rested {
+            return HitDecision::Set(CellClass::Moving, Rule::MovingContinued);
+        }
+        // Only something seen moving for two frames comes to rest: a one-frame blip of motion (a
+        // grazed wall's return landing in last frame's free space) must not make its wall movable.
+        if moving::near_confirmed_motion(l, i, f) {
+            return HitDecision::RestCandidate;
+        }
     }
     if stationary::three_frames(l, g, i, f) && !movable::touches_movable(l, g, i) {
         HitDecision::Set(CellClass::Stationary, Rule::Stationary)

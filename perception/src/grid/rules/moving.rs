@@ -83,6 +83,12 @@ pub(crate) fn near_previous_motion(l: &Layers, i: usize, f: u32) -> bool {
     l.near_moving[i] == f
 }
 
+/// The cell lies within `moving_step` of a cell that was moving at t−1 and already at t−2 nearby
+/// (*confirmed* motion: moving for at least two frames running).
+pub(crate) fn near_confirmed_motion(l: &Layers, i: usize, f: u32) -> bool {
+    l.near_confirmed[i] == f
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
