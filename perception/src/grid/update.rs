@@ -340,3 +340,38 @@ fn mean_beam_step(frame: &RangeFrame) -> f64 {
         0.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{CellIndex, GridConfig, GridGeometry};
+    use super::*;
+    use nalgebra::Point2;
+
+    #[test]
+    fn cells_within_the_free_gap_of_a_return_are_observed_not_freed() {
+        // Invariant: along a beam ending in a return, cells left at least `free_gap` before the return
+        // become Free; nearer ones stay Unknown (the ray may run inside the surface) yet count as seen.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 20, 3, 0.05).expect("valid");
+        let cfg = GridConfig {
+            free_gap: 0.1,
+            clear_tail: 0.0,
+            ..GridConfig::default()
+        };
+        let mut grid = ObstacleGrid::new(geom, cfg);
+        let mut frame = RangeFrame::new(Point2::new(0.025, 0.075)).expect("finite");
+        // The return at x = 0.825 lies in cell 16; cell 15 is left at x = 0.80 (2.5 cm before it),
+        // cell 14 at 0.75 (7.5 cm), cell 13 at 0.70 (12.5 cm).
+        frame.push_hit(Point2::new(0.825, 0.075));
+        grid.update(&frame, 1.0).expect("in order");
+        let class = |x| grid.class(CellIndex::new(x, 1)).expect("in grid");
+        assert_eq!(class(13), CellClass::Free);
+        assert_eq!(class(14), CellClass::Unknown);
+        assert_eq!(class(15), CellClass::Unknown);
+        let seen = grid.cell(CellIndex::new(15, 1)).expect("in grid").last_seen;
+        assert_eq!(
+            seen,
+            Some(1.0),
+            "a near crossing still renews the cell's age"
+        );
+    }
+}

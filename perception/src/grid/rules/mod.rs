@@ -72,3 +72,62 @@ pub(crate) fn decide_hit(
         HitDecision::Set(CellClass::Unknown, Rule::Tentative)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point2;
+
+    /// A 10 × 10 grid of 5 cm cells with a return at cell 55 in frame 5 that was returned around in
+    /// frames 3 and 4 (in place), near last frame's motion.
+    fn resting_return_near_motion() -> (GridGeometry, Layers) {
+        let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
+        let mut l = Layers::new(g.len());
+        for f in 3..=5 {
+            l.record_hit(55, f);
+        }
+        l.near_moving[55] = 5;
+        (g, l)
+    }
+
+    const FAR: (usize, (f64, f64)) = (1, (5.0, -1000.0));
+
+    #[test]
+    fn only_confirmed_motion_comes_to_rest() {
+        // Invariant: a return in place next to last frame's motion is a rest candidate (movable by
+        // addition) only when that motion was confirmed (moving two frames running); next to a
+        // one-frame blip it goes on to the stationary test (here: tentative).
+        let (g, mut l) = resting_return_near_motion();
+        assert_eq!(
+            decide_hit(&l, &g, 55, 5, FAR),
+            HitDecision::Set(CellClass::Unknown, Rule::Tentative)
+        );
+        l.near_confirmed[55] = 5;
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::RestCandidate);
+    }
+
+    #[test]
+    fn a_return_not_in_place_next_to_motion_continues_it() {
+        // Invariant: near last frame's motion, a return not yet in place is the moving obstacle gone on.
+        let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
+        let mut l = Layers::new(g.len());
+        l.record_hit(55, 5);
+        l.near_moving[55] = 5;
+        assert_eq!(
+            decide_hit(&l, &g, 55, 5, FAR),
+            HitDecision::Set(CellClass::Moving, Rule::MovingContinued)
+        );
+        // A stationary cell is never continued: walls next to a passer-by stay walls.
+        l.class[55] = CellClass::Stationary as u8;
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::Keep);
+    }
+
+    #[test]
+    fn active_evidence_outranks_every_passive_rule() {
+        // Invariant: a cell a push test marked keeps its verdict whatever returns land on it.
+        let (g, mut l) = resting_return_near_motion();
+        l.class[55] = CellClass::Stationary as u8;
+        l.evidence[55] = super::super::evidence::pack_active(3);
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::Keep);
+    }
+}
