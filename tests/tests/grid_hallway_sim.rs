@@ -228,13 +228,14 @@ fn pct(v: Option<f64>) -> String {
 /// the wall cells ever misclassified.
 const MOVING_RECALL_GOAL: f64 = 0.98;
 const WALLS_WRONG_GOAL: f64 = 0.01;
-/// What the grid reaches on this run (seed 1), below the goals: Moving recall 95.87 % (the misses:
-/// the person's first frames back inside the 5 m range, tentative until its motion is seen; the
-/// pulled suitcase's side sliding along itself, which reads as resting), 8.40 % of the wall cells
-/// (10 of 119) ever Movable (a grazed far wall, returned every few centimetres along it, that looks
-/// like something appearing in free space for two frames running). The test holds the grid to these
-/// so that it cannot slip back unnoticed.
-const MOVING_RECALL_REACHED: f64 = 0.958;
+/// What the grid reaches on this run (seed 1), below the goals: Moving recall 97.61 % (59 of 2467
+/// returns missed: 41 in the person's first four frames back inside the 5 m range, tentative until
+/// it has been seen entering free space; 8 on the pulled suitcase's last visible end as it leaves the
+/// view with nothing else moving in view, which reads as resting; the rest single returns), 8.40 % of
+/// the wall cells (10 of 119) ever Movable (a grazed far wall, returned every few centimetres along
+/// it, that looks like something appearing in free space for two frames running). The test holds the
+/// grid to these so that it cannot slip back unnoticed.
+const MOVING_RECALL_REACHED: f64 = 0.976;
 const WALLS_WRONG_REACHED: f64 = 0.085;
 
 #[test]

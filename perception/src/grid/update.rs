@@ -20,6 +20,8 @@ pub(crate) struct Scratch {
     decisions: Vec<(u32, HitDecision)>,
     motion: Vec<(i32, i32)>,
     new_moving: Vec<u32>,
+    /// Cells something left this frame (see `stamp_vacated`).
+    vacated: Vec<u32>,
     /// This frame's visible area as a bitmap (bit `i % 64` of word `i / 64` is cell `i`): [crossed,
     /// crossed at least the free gap before the return, crossed well before it]. The walk only sets bits here, in an array small enough to stay
     /// in cache (an eighth of a byte per cell where the cells' histories take twelve); each crossed
@@ -50,6 +52,7 @@ impl ObstacleGrid {
         let mut s = std::mem::take(&mut self.scratch);
         self.traverse(frame, &mut s);
         self.stamp_previous_motion();
+        self.stamp_vacated(&mut s);
         let sensor = self.geom.grid_coords(frame.sensor());
         self.classify_returns(now, sensor, &mut s);
         self.classify_crossed(now, &s);
@@ -192,12 +195,37 @@ impl ObstacleGrid {
         }
     }
 
+    /// Cells something has just left ([`movable::vacated`]) are motion as much as cells something has
+    /// just entered: their neighbourhood (`moving_step`) counts as near confirmed motion this frame, so
+    /// the side of a pulled suitcase, which slides along itself and looks in place, is seen moving from
+    /// the cells its back end leaves (while the person pulling it is in view). They do not count as
+    /// motion nearby for the rest test: a person walking past a resting suitcase leaves cells behind it
+    /// next to the suitcase longer than it is next to it itself.
+    fn stamp_vacated(&mut self, s: &mut Scratch) {
+        let f = self.frame;
+        s.vacated.clear();
+        let r = (self.cfg.moving_step / self.geom.resolution())
+            .ceil()
+            .max(1.0) as usize;
+        for &i in &s.crossed {
+            if movable::vacated(&self.layers, &self.geom, i as usize, f) {
+                s.vacated.push(i);
+                let l = &mut self.layers;
+                self.geom.for_square(i as usize, r, |j| {
+                    l.near_moving[j] = f;
+                    l.near_confirmed[j] = f;
+                });
+            }
+        }
+    }
+
     /// Tamura's Fig. 5 for every return of the frame, then the rest test, then the writes.
     fn classify_returns(&mut self, now: f64, sensor: (f64, f64), s: &mut Scratch) {
         let f = self.frame;
         s.decisions.clear();
         s.motion.clear();
         let w = self.geom.width();
+
         for (&i, &quiet) in s.hits.iter().zip(&s.quiet) {
             let around = (usize::from(quiet), sensor);
             let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f, around);
