@@ -8,8 +8,9 @@
 //! the observed cells (last seen this frame, one true class over the whole cell). The goals (Tamura
 //! and Chen): ≥ 98 % of the returns on moving things called Moving; under 1 % of the wall cells ever
 //! called anything but Stationary or Unknown; the resting suitcase becomes Movable and never
-//! Stationary; once it is taken away its cells are no longer Movable. The first two are not met yet:
-//! the test prints whether they are and holds the grid to what it reaches (see the constants).
+//! Stationary; once it is taken away its cells are no longer Movable. The Moving recall goal is not
+//! met yet: the test prints whether the goals are and holds the grid to what it reaches (see the
+//! constants).
 
 use std::collections::HashSet;
 
@@ -155,7 +156,12 @@ fn run_hallway(seed: u64) -> Run {
                         run.walls_wrong_by[k] += 1;
                         if let Some(cell) = geom.cell_at(i) {
                             let p = geom.centre(cell);
-                            println!("t {now:.1}: wall cell ({:.3}, {:.3}) class {c}", p.x, p.y);
+                            println!(
+                                "t {now:.1}: wall cell ({:.3}, {:.3}) class {c} {:?}",
+                                p.x,
+                                p.y,
+                                grid.cell(cell).expect("c").evidence
+                            );
                         }
                     }
                 }
@@ -228,19 +234,16 @@ fn pct(v: Option<f64>) -> String {
 /// the wall cells ever misclassified.
 const MOVING_RECALL_GOAL: f64 = 0.98;
 const WALLS_WRONG_GOAL: f64 = 0.01;
-/// What the grid reaches on this run (seed 1), below the goals: Moving recall 97.61 % (59 of 2467
-/// returns missed: 41 in the person's first four frames back inside the 5 m range, tentative until
-/// it has been seen entering free space; 8 on the pulled suitcase's last visible end as it leaves the
-/// view with nothing else moving in view, which reads as resting; the rest single returns), 8.40 % of
-/// the wall cells (10 of 119) ever Movable (a grazed far wall, returned every few centimetres along
-/// it, that looks like something appearing in free space for two frames running). The test holds the
-/// grid to these so that it cannot slip back unnoticed.
+/// What the grid reaches on this run (seed 1) where it misses the goal: Moving recall 97.61 % (59
+/// of 2467 returns missed: 41 in the person's first four frames back inside the 5 m range, tentative
+/// until it has been seen entering free space; 8 on the pulled suitcase's last visible end as it
+/// leaves the view with nothing else moving in view, which reads as resting; the rest single
+/// returns). The test holds the grid to it so that it cannot slip back unnoticed.
 const MOVING_RECALL_REACHED: f64 = 0.976;
-const WALLS_WRONG_REACHED: f64 = 0.085;
 
 #[test]
 fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
-    // Invariant: walking Tamura's hallway, the resting suitcase becomes Movable and is never Stationary, its cells are deleted once it is taken, and Moving recall and wall misclassification stay at what the grid reaches (goals 98 % and < 1 %, reported).
+    // Invariant: walking Tamura's hallway, under 1 % of wall cells are ever misclassified, the resting suitcase becomes Movable and is never Stationary, its cells are deleted once it is taken, and Moving recall stays at the 97.6 % reached (goal 98 %, reported).
     let run = run_hallway(1);
     println!("{}", run.returns.table("returns (Tamura's data points):"));
     println!(
@@ -307,10 +310,9 @@ fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
         100.0 * MOVING_RECALL_REACHED
     );
     assert!(
-        wall_wrong <= WALLS_WRONG_REACHED,
-        "{:.2} % of wall cells misclassified, more than the {:.1} % reached",
-        100.0 * wall_wrong,
-        100.0 * WALLS_WRONG_REACHED
+        wall_wrong < WALLS_WRONG_GOAL,
+        "{:.2} % of wall cells misclassified",
+        100.0 * wall_wrong
     );
     assert!(
         run.suitcase_movable_frames > 0,

@@ -25,7 +25,10 @@
 //! 4. **Moving continued / movable addition** (Tamura 3.2.1): within `moving_step` of a cell that was
 //!    moving at t−1, a return not yet in place is the moving obstacle gone on (moving); one in place
 //!    rests and is *movable* — unless motion is nearby (the person still pulling the suitcase; the
-//!    leading corner of a face that slides along itself and so looks static in a grid).
+//!    leading corner of a face that slides along itself and so looks static in a grid). Only
+//!    *confirmed* motion comes to rest: motion that went on into new cells (or cells something has
+//!    just left, seen through with nothing around). A return that appears and stays in its cell is a
+//!    blip (a grazed wall looks just so): moving while motion is nearby, else the stationary test.
 //! 5. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
 //!    return (none of the above) with temporarily stationary returns in its 8-neighbourhood at t−1 and
 //!    at t−2, and no movable cell within 3 cells (a movable object's fringe never becomes a wall).

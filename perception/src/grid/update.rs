@@ -243,6 +243,14 @@ impl ObstacleGrid {
             let (class, rule) = match d {
                 HitDecision::Keep => continue,
                 HitDecision::Set(c, r) => (c, r),
+                HitDecision::MovingUnlessStill(c, r) => {
+                    let cell = ((i % w) as i32, (i / w) as i32);
+                    if movable::added(cell, &s.motion, rest_cells) {
+                        (c, r)
+                    } else {
+                        (CellClass::Moving, Rule::MovingContinued)
+                    }
+                }
                 HitDecision::RestCandidate
                 | HitDecision::MovableUnlessMotion
                 | HitDecision::ExtendUnlessMotion => {
@@ -265,8 +273,14 @@ impl ObstacleGrid {
             }
             if class == CellClass::Moving {
                 s.new_moving.push(i as u32);
-                if self.layers.near_moving[i] == f {
-                    self.layers.confirmed[i] = f;
+                // Confirmed: motion near last frame's that reached a cell not moving before, and it
+                // stays confirmed while the cell stays moving. A return that stays in the cell it
+                // appeared in is a blip, however long it stays.
+                let l = &mut self.layers;
+                let was_moving = l.class[i] == CellClass::Moving as u8;
+                if (l.near_moving[i] == f && !was_moving) || (was_moving && l.confirmed[i] == f - 1)
+                {
+                    l.confirmed[i] = f;
                 }
             }
             self.write_passive(i, class, rule, now);

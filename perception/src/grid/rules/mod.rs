@@ -28,6 +28,9 @@ pub(crate) enum HitDecision {
     MovableUnlessMotion,
     /// Resting next to a movable cell: joins it (extension) unless motion is seen near it this frame.
     ExtendUnlessMotion,
+    /// In place next to last frame's motion that was not confirmed (a blip): moving while motion is
+    /// seen near it this frame, else this class and rule (the stationary test's verdict).
+    MovingUnlessStill(CellClass, Rule),
 }
 
 /// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`);
@@ -58,12 +61,21 @@ pub(crate) fn decide_hit(
         if !rested {
             return HitDecision::Set(CellClass::Moving, Rule::MovingContinued);
         }
-        // Only something seen moving for two frames comes to rest: a one-frame blip of motion (a
-        // grazed wall's return landing in last frame's free space) must not make its wall movable.
+        // Only motion seen going on into new cells comes to rest: a blip (a grazed wall's return
+        // landing in last frame's free space and staying in its cell) must not make its wall movable.
         if moving::near_confirmed_motion(l, i, f) {
             return HitDecision::RestCandidate;
         }
+        return match passive_rest(l, g, i, f, class) {
+            HitDecision::Set(c, r) => HitDecision::MovingUnlessStill(c, r),
+            d => d,
+        };
     }
+    passive_rest(l, g, i, f, class)
+}
+
+/// The stationary test (Tamura 3.3 with Chen's neighbours) for a return no motion rule claimed.
+fn passive_rest(l: &Layers, g: &GridGeometry, i: usize, f: u32, class: CellClass) -> HitDecision {
     if stationary::three_frames(l, g, i, f) && !movable::touches_movable(l, g, i) {
         HitDecision::Set(CellClass::Stationary, Rule::Stationary)
     } else if class == CellClass::Stationary {
@@ -95,12 +107,12 @@ mod tests {
     #[test]
     fn only_confirmed_motion_comes_to_rest() {
         // Invariant: a return in place next to last frame's motion is a rest candidate (movable by
-        // addition) only when that motion was confirmed (moving two frames running); next to a
-        // one-frame blip it goes on to the stationary test (here: tentative).
+        // addition) only when that motion was confirmed (went on into new cells); next to a blip it is
+        // moving while motion is seen near it, else the stationary test decides (here: tentative).
         let (g, mut l) = resting_return_near_motion();
         assert_eq!(
             decide_hit(&l, &g, 55, 5, FAR),
-            HitDecision::Set(CellClass::Unknown, Rule::Tentative)
+            HitDecision::MovingUnlessStill(CellClass::Unknown, Rule::Tentative)
         );
         l.near_confirmed[55] = 5;
         assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::RestCandidate);

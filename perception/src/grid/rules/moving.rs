@@ -83,8 +83,9 @@ pub(crate) fn near_previous_motion(l: &Layers, i: usize, f: u32) -> bool {
     l.near_moving[i] == f
 }
 
-/// The cell lies within `moving_step` of a cell that was moving at t−1 and already at t−2 nearby
-/// (*confirmed* motion: moving for at least two frames running).
+/// The cell lies within `moving_step` of a cell that was moving at t−1 and had not been at t−2 but
+/// something nearby had (*confirmed* motion: moving two frames running, and on into a new cell), or of
+/// a cell something has just left.
 pub(crate) fn near_confirmed_motion(l: &Layers, i: usize, f: u32) -> bool {
     l.near_confirmed[i] == f
 }
