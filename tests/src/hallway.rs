@@ -230,3 +230,52 @@ pub fn score_cells(grid: &ObstacleGrid, now: f64, truth: &TamuraTruth<'_>) -> Co
     }
     conf
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nudge_executive::robot::Clock;
+    use nudge_sim::adapter::SimRobot;
+
+    #[test]
+    fn a_suitcase_a_person_leaves_is_movable_to_tamura_and_static_to_the_push() {
+        // Invariant: once the person has left the suitcase (8 kg, 23.5 N to slide: over the push limit),
+        // Tamura's truth calls it Movable and the push-test truth Stationary; the bolted cabinet is
+        // Stationary to both, the floor Free, and the carried suitcase Moving.
+        let scenario = crate::scenario("tamura-hallway").expect("scenario loads");
+        let mut robot = SimRobot::new(&scenario, 1).expect("world builds");
+        let suitcase = |r: &SimRobot| {
+            let w = r.world();
+            let i = w
+                .objects()
+                .iter()
+                .position(|(s, _)| s.name == "suitcase")
+                .expect("a suitcase");
+            let p = w.object_pose(i).expect("pose").translation;
+            (i, Point2::new(p.x, p.y))
+        };
+        let (i, carried_at) = suitcase(&robot);
+        let truth = Truth::new(robot.world());
+        assert_eq!(truth.obstacle_type_at(carried_at), TrueClass::Moving);
+        assert!(truth.carried_by_an_actor(i));
+        while robot.now() < 7.0 {
+            robot.advance(0.1).expect("advance");
+        }
+        let (i, rest) = suitcase(&robot);
+        assert!(
+            (rest - Point2::new(6.0, 0.55)).norm() < 0.05,
+            "left at {rest}"
+        );
+        let truth = Truth::new(robot.world());
+        assert_eq!(truth.object_at(rest), Some(i));
+        assert_eq!(truth.obstacle_type_at(rest), TrueClass::Movable);
+        assert_eq!(truth.true_class_at(rest), TrueClass::Stationary);
+        let cabinet = Point2::new(6.0, 2.2);
+        assert_eq!(truth.obstacle_type_at(cabinet), TrueClass::Stationary);
+        assert_eq!(truth.true_class_at(cabinet), TrueClass::Stationary);
+        assert_eq!(
+            truth.obstacle_type_at(Point2::new(3.0, 1.9)),
+            TrueClass::Free
+        );
+    }
+}
