@@ -84,7 +84,7 @@ fn room_cloud(stamp: f64) -> ColourCloud {
 #[test]
 fn the_table_edge_becomes_stationary_and_the_floor_before_it_free() {
     // Invariant: per-column reduction keeps the nearest obstacle (the table's near edge), the floor
-    // seen is free space (not the floor under the lowest ray), three frames make returns stationary.
+    // seen is free space (not under the lowest ray), three frames make returns stationary.
     let geom = GridGeometry::from_rect(Point2::new(0.0, 0.0), Point2::new(6.0, 3.6), 0.5, 0.05)
         .expect("valid room");
     let mut grid = ObstacleGrid::new(geom, GridConfig::default());
@@ -95,8 +95,9 @@ fn the_table_edge_becomes_stationary_and_the_floor_before_it_free() {
         assert_eq!(frame.beams().len(), 176, "every column sees something");
         grid.update(&frame, cloud.stamp()).expect("in order");
     }
-    // The floor between the robot and the table is free from where the lowest ray (42.3° down) meets
-    // it, x ≈ 2.14; nearer, a low obstacle could hide under that ray, so those cells stay unknown.
+    // The floor between the robot and the table is free from where the lowest ray (42.3° down, on the
+    // floor at x ≈ 2.14) is below the 0.4 m clear height, x ≈ 1.7; nearer, something could stand under
+    // that ray, so those cells stay unknown.
     for x in [2.2, 2.4] {
         assert_eq!(
             grid.class_at(Point2::new(x, 1.8)),

@@ -72,6 +72,40 @@ impl<'a> Truth<'a> {
         })
     }
 
+    /// Whether some actor of the scenario carries object `i` at some time (it is moved by a person,
+    /// whatever the robot's push could do).
+    pub fn carried_by_an_actor(&self, i: usize) -> bool {
+        let Some((spec, _)) = self.world.objects().get(i) else {
+            return false;
+        };
+        self.world
+            .actors()
+            .iter()
+            .any(|a| a.spec.carries.as_deref() == Some(spec.name.as_str()))
+    }
+
+    /// The true obstacle type of the map point `p` now, in Tamura et al.'s terms (the classes of the
+    /// obstacle-type grid): like [`Truth::true_class_at`], except that a resting object is
+    /// [`TrueClass::Movable`] when anything in this world can move it — an actor carries it at some
+    /// time (the suitcase a person leaves and takes again), or the robot's guarded push slides it. The
+    /// push-test scoring keeps [`Truth::movability`] (robot-pushable only): an 8 kg suitcase a person
+    /// pulls is movable to Tamura and static to a 20 N push.
+    pub fn obstacle_type_at(&self, p: Point2<f64>) -> TrueClass {
+        match self.true_class_at(p) {
+            TrueClass::Stationary => {
+                let moved_by_an_actor = self
+                    .object_at(p)
+                    .is_some_and(|i| self.carried_by_an_actor(i));
+                if moved_by_an_actor {
+                    TrueClass::Movable
+                } else {
+                    TrueClass::Stationary
+                }
+            }
+            c => c,
+        }
+    }
+
     /// The true class of the map point `p` now.
     pub fn true_class_at(&self, p: Point2<f64>) -> TrueClass {
         let room = &self.world_room();
@@ -83,37 +117,46 @@ impl<'a> Truth<'a> {
                 return TrueClass::Moving;
             }
         }
-        let robot_height = self.world.humanoid_height();
-        for (i, (spec, _)) in self.world.objects().iter().enumerate() {
-            let top = spec.elevation
-                + if spec.kind == ObjectKind::Cylinder {
-                    spec.size[1]
-                } else {
-                    spec.size[2]
-                };
-            if top <= FLAT || spec.elevation >= robot_height {
-                continue;
-            }
-            let Some(pose) = self.world.object_pose(i) else {
-                continue;
-            };
-            let local = pose.inverse_transform_point(&Point3::new(p.x, p.y, pose.translation.z));
-            let inside = match spec.kind {
-                ObjectKind::Cylinder => local.x.hypot(local.y) <= spec.size[0] / 2.0,
-                _ => local.x.abs() <= spec.size[0] / 2.0 && local.y.abs() <= spec.size[1] / 2.0,
-            };
-            if !inside {
-                continue;
-            }
-            let moving = self.world.object_speed(i).is_some_and(|s| s > MOVING_SPEED)
-                || self.world.actors().iter().any(|a| a.carrying() == Some(i));
-            return match (moving, self.movability(i)) {
-                (true, _) => TrueClass::Moving,
-                (false, Some(Movability::Movable)) => TrueClass::Movable,
-                _ => TrueClass::Stationary,
-            };
+        let Some(i) = self.object_at(p) else {
+            return TrueClass::Free;
+        };
+        let moving = self.world.object_speed(i).is_some_and(|s| s > MOVING_SPEED)
+            || self.world.actors().iter().any(|a| a.carrying() == Some(i));
+        match (moving, self.movability(i)) {
+            (true, _) => TrueClass::Moving,
+            (false, Some(Movability::Movable)) => TrueClass::Movable,
+            _ => TrueClass::Stationary,
         }
-        TrueClass::Free
+    }
+
+    /// The first object (in scenario order) whose footprint holds the map point `p` now, leaving out
+    /// objects flat on the floor and objects lifted above the robot (they are no obstacles).
+    pub fn object_at(&self, p: Point2<f64>) -> Option<usize> {
+        let robot_height = self.world.humanoid_height();
+        self.world
+            .objects()
+            .iter()
+            .enumerate()
+            .position(|(i, (spec, _))| {
+                let top = spec.elevation
+                    + if spec.kind == ObjectKind::Cylinder {
+                        spec.size[1]
+                    } else {
+                        spec.size[2]
+                    };
+                if top <= FLAT || spec.elevation >= robot_height {
+                    return false;
+                }
+                let Some(pose) = self.world.object_pose(i) else {
+                    return false;
+                };
+                let local =
+                    pose.inverse_transform_point(&Point3::new(p.x, p.y, pose.translation.z));
+                match spec.kind {
+                    ObjectKind::Cylinder => local.x.hypot(local.y) <= spec.size[0] / 2.0,
+                    _ => local.x.abs() <= spec.size[0] / 2.0 && local.y.abs() <= spec.size[1] / 2.0,
+                }
+            })
     }
 
     fn world_room(&self) -> [f64; 2] {

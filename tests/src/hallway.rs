@@ -10,24 +10,22 @@
 //!   a beam or holding a return) whose true class is the same at its centre and near its four corners
 //!   (cells straddling a surface have no single true class and are left out).
 //!
-//! Truth is Tamura's, not the push test's: [`TamuraTruth`] calls an object at rest Movable when a person
-//! can move it (any object that is not bolted or lifted), whatever its sliding force. The simulation's
-//! [`Truth`] calls a resting object Movable only when the robot's 20 N guarded push would slide it, so
-//! the hallway's suitcase (8 kg, μ 0.3: 23.5 N) is Stationary there although a person pulls it.
+//! Truth is Tamura's, not the push test's: [`Truth::obstacle_type_at`] calls a resting object Movable
+//! when anything in the world moves it — here the suitcase a person pulls — whatever its sliding force.
+//! [`Truth::true_class_at`] calls a resting object Movable only when the robot's 20 N guarded push would
+//! slide it, so the hallway's suitcase (8 kg, μ 0.3: 23.5 N) is Stationary there although a person
+//! pulls it.
 
 use nalgebra::{Point2, Vector2};
 use nudge_perception::grid::{
     BeamEnd, CellClass, CellIndex, GridGeometry, ObstacleGrid, RangeFrame,
 };
-use nudge_sim::scenario::ObjectKind;
 use nudge_sim::truth::{TrueClass, Truth};
 use nudge_sim::world::World;
-use nudge_sim::world::build::is_fixed;
 
-/// Ground truth in Tamura's terms: an object a person can move is Movable at rest.
+/// Ground truth in Tamura's terms (the obstacle-type grid's classes).
 pub struct TamuraTruth<'a> {
     truth: Truth<'a>,
-    world: &'a World,
 }
 
 impl<'a> TamuraTruth<'a> {
@@ -35,42 +33,12 @@ impl<'a> TamuraTruth<'a> {
     pub fn new(world: &'a World) -> Self {
         Self {
             truth: Truth::new(world),
-            world,
         }
     }
 
-    /// The true class of the map point `p` now: the simulation's, except that a point of a resting
-    /// object that is not bolted or lifted is Movable.
+    /// The true obstacle type of the map point `p` now ([`Truth::obstacle_type_at`]).
     pub fn true_class_at(&self, p: Point2<f64>) -> TrueClass {
-        let t = self.truth.true_class_at(p);
-        let room = self.world.room_size();
-        let inside = p.x > 0.0 && p.y > 0.0 && p.x < room[0] && p.y < room[1];
-        if t != TrueClass::Stationary || !inside {
-            return t;
-        }
-        let movable = self
-            .world
-            .objects()
-            .iter()
-            .enumerate()
-            .any(|(i, (spec, _))| {
-                if is_fixed(spec) || spec.size.len() < 2 {
-                    return false;
-                }
-                let Some(pose) = self.world.object_pose(i) else {
-                    return false;
-                };
-                let local = pose.inverse_transform_point(&nalgebra::Point3::new(
-                    p.x,
-                    p.y,
-                    pose.translation.z,
-                ));
-                match spec.kind {
-                    ObjectKind::Cylinder => local.x.hypot(local.y) <= spec.size[0] / 2.0,
-                    _ => local.x.abs() <= spec.size[0] / 2.0 && local.y.abs() <= spec.size[1] / 2.0,
-                }
-            });
-        if movable { TrueClass::Movable } else { t }
+        self.truth.obstacle_type_at(p)
     }
 }
 
@@ -261,4 +229,53 @@ pub fn score_cells(grid: &ObstacleGrid, now: f64, truth: &TamuraTruth<'_>) -> Co
         }
     }
     conf
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nudge_executive::robot::Clock;
+    use nudge_sim::adapter::SimRobot;
+
+    #[test]
+    fn a_suitcase_a_person_leaves_is_movable_to_tamura_and_static_to_the_push() {
+        // Invariant: once the person has left the suitcase (8 kg, 23.5 N to slide: over the push limit),
+        // Tamura's truth calls it Movable and the push-test truth Stationary; the bolted cabinet is
+        // Stationary to both, the floor Free, and the carried suitcase Moving.
+        let scenario = crate::scenario("tamura-hallway").expect("scenario loads");
+        let mut robot = SimRobot::new(&scenario, 1).expect("world builds");
+        let suitcase = |r: &SimRobot| {
+            let w = r.world();
+            let i = w
+                .objects()
+                .iter()
+                .position(|(s, _)| s.name == "suitcase")
+                .expect("a suitcase");
+            let p = w.object_pose(i).expect("pose").translation;
+            (i, Point2::new(p.x, p.y))
+        };
+        let (i, carried_at) = suitcase(&robot);
+        let truth = Truth::new(robot.world());
+        assert_eq!(truth.obstacle_type_at(carried_at), TrueClass::Moving);
+        assert!(truth.carried_by_an_actor(i));
+        while robot.now() < 7.0 {
+            robot.advance(0.1).expect("advance");
+        }
+        let (i, rest) = suitcase(&robot);
+        assert!(
+            (rest - Point2::new(6.0, 0.55)).norm() < 0.05,
+            "left at {rest}"
+        );
+        let truth = Truth::new(robot.world());
+        assert_eq!(truth.object_at(rest), Some(i));
+        assert_eq!(truth.obstacle_type_at(rest), TrueClass::Movable);
+        assert_eq!(truth.true_class_at(rest), TrueClass::Stationary);
+        let cabinet = Point2::new(6.0, 2.2);
+        assert_eq!(truth.obstacle_type_at(cabinet), TrueClass::Stationary);
+        assert_eq!(truth.true_class_at(cabinet), TrueClass::Stationary);
+        assert_eq!(
+            truth.obstacle_type_at(Point2::new(3.0, 1.9)),
+            TrueClass::Free
+        );
+    }
 }

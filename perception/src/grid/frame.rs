@@ -71,6 +71,11 @@ pub struct ColumnReduction {
     /// Points farther than this horizontally are ignored (m); a column with floor only is clear up to
     /// its farthest floor point, never beyond.
     pub range_max: f64,
+    /// A column proves a cell free only where its lowest ray passes below this height (m): nearer
+    /// the sensor, something lower could stand under the ray unseen. Default 0.4 m, under a chair's
+    /// seat and a suitcase's top; lower things near the robot are left to perception's prisms, so a
+    /// person's legs under the ray do not hide them from the moving rule. 0 asks for the floor.
+    pub clear_height: f64,
 }
 
 impl Default for ColumnReduction {
@@ -79,6 +84,7 @@ impl Default for ColumnReduction {
             floor_band: 0.05,
             max_height: 1.54,
             range_max: 8.0,
+            clear_height: 0.4,
         }
     }
 }
@@ -224,6 +230,13 @@ impl RangeFrame {
         };
         let (sx, sy) = (t.x as f32, t.y as f32);
         let (floor, top) = (cfg.floor_band as f32, cfg.max_height as f32);
+        // Share of the way to a column's nearest floor point after which its lowest ray is below
+        // `clear_height` (none when the sensor itself is that low).
+        let clear_fraction = if t.z > cfg.clear_height {
+            1.0 - cfg.clear_height / t.z
+        } else {
+            0.0
+        };
         let r2_max = (cfg.range_max * cfg.range_max) as f32;
         let (w, h) = (cloud.width(), cloud.height());
         let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
@@ -253,17 +266,20 @@ impl RangeFrame {
                     nearest = Some((r2, p.x, p.y));
                 }
             }
-            // Below its lowest ray the column saw nothing: only from the nearest floor it saw on is the
-            // beam's way known to be clear at every height.
+            // Below its lowest ray the column saw nothing. That ray meets the floor at the nearest
+            // floor point; it has come down to `clear_height` a fraction (1 − clear_height / sensor
+            // height) of the way there, and only from there on is the way known to be clear at every
+            // height from `clear_height` to the sensor's.
             let (end, kind, end_r2) = match (nearest, farthest_floor) {
                 (Some((r2, x, y)), _) => (Point2::new(x, y), BeamEnd::Hit, r2),
                 (None, Some((r2, x, y))) => (Point2::new(x, y), BeamEnd::Clear, r2),
                 (None, None) => continue,
             };
+            let lowest_ray_down = f64::from(nearest_floor.sqrt()) * clear_fraction;
             frame.push_beam(Beam {
                 end: end.cast::<f64>(),
                 kind,
-                seen_from: f64::from(nearest_floor.min(end_r2).sqrt()),
+                seen_from: lowest_ray_down.min(f64::from(end_r2.sqrt())),
             });
         }
         Ok(frame)
@@ -329,10 +345,10 @@ mod tests {
     }
 
     #[test]
-    fn a_column_proves_nothing_free_nearer_than_the_floor_it_saw() {
-        // Invariant: a camera column's beam proves cells free only from its nearest floor point on (a
-        // low obstacle under the lowest ray stays unknown), and a grid fed that beam leaves the near
-        // cells untouched while the far ones turn Free.
+    fn a_column_proves_cells_free_only_where_its_lowest_ray_is_below_the_clear_height() {
+        // Invariant: a camera column's beam proves cells free only where its lowest ray has come down
+        // below the clear height (an obstacle under the ray nearer the sensor stays unknown), and a
+        // grid fed that beam leaves the near cells untouched while the far ones turn Free.
         let pose =
             Isometry3::from_parts(Translation3::new(0.0, 0.0, 1.4), UnitQuaternion::identity());
         // One column: floor seen at 2 m and 4 m only (the lowest ray meets the floor at 2 m).
@@ -350,7 +366,9 @@ mod tests {
         .expect("consistent arrays");
         let f = RangeFrame::from_cloud(&cloud, &ColumnReduction::default()).expect("organised");
         assert_eq!(f.beams().len(), 1);
-        assert!((f.beams()[0].seen_from - 2.0).abs() < 1e-6);
+        // The lowest ray falls 1.39 m over 2 m: below 0.4 m after 2 × (1 − 0.4 / 1.4) m.
+        let expected = 2.0 * (1.0 - 0.4 / 1.4);
+        assert!((f.beams()[0].seen_from - expected).abs() < 1e-6);
         let mut grid =
             crate::grid::ObstacleGrid::from_extent(Point2::new(-1.0, -1.0), [6.0, 2.0], 0.1)
                 .expect("valid grid");

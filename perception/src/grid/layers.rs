@@ -22,7 +22,8 @@ pub(crate) struct Track {
     pub hit_bits: u8,
     /// Frames in which the return in the cell was classified temporarily stationary (Tamura 3.3).
     pub ts_bits: u8,
-    /// Frames in which a ray crossed the cell (without ending in it).
+    /// Frames in which a ray crossed the cell (without ending in it) at least the free gap before its
+    /// return: seen free.
     pub free_bits: u8,
     /// Frames in which a ray crossed the cell at least the clear margin before its return.
     pub far_bits: u8,
@@ -43,6 +44,11 @@ pub(crate) struct Layers {
     pub track: Vec<Track>,
     /// Frame stamp: the cell lies near a cell that was moving in the previous frame.
     pub near_moving: Vec<u32>,
+    /// Frame stamp: the cell lies near a cell whose motion was confirmed in the previous frame.
+    pub near_confirmed: Vec<u32>,
+    /// Frame stamp: the cell was moving in that frame and near motion of the frame before
+    /// (confirmed motion).
+    pub confirmed: Vec<u32>,
     /// Watch generation stamp: the cell is on the executive's current path.
     pub watch: Vec<u32>,
     /// Robot-clock stamp of every frame, by frame number (entry 0: "never", NaN). 8 bytes per frame:
@@ -60,6 +66,8 @@ impl Layers {
             marked_at: vec![f64::NAN; n],
             track: vec![Track::default(); n],
             near_moving: vec![0; n],
+            near_confirmed: vec![0; n],
+            confirmed: vec![0; n],
             watch: vec![0; n],
             stamps: vec![f64::NAN],
         }
@@ -99,7 +107,8 @@ impl Layers {
         at(t.ts_bits, t.hit_frame, f)
     }
 
-    /// Frames in which a ray crossed `i` (without ending there) as seen from frame `f`.
+    /// Frames in which a ray crossed `i` (without ending there) at least the free gap before its return
+    /// — the cell was seen free — as seen from frame `f`.
     #[inline]
     pub fn crossed(&self, i: usize, f: u32) -> u8 {
         let t = &self.track[i];
@@ -119,7 +128,7 @@ impl Layers {
         self.track[i].hit_frame == f
     }
 
-    /// True when a ray crossed `i` in frame `f`.
+    /// True when a ray crossed `i` in frame `f` (however close to its return).
     #[inline]
     pub fn crossed_in(&self, i: usize, f: u32) -> bool {
         self.track[i].free_frame == f
@@ -145,29 +154,47 @@ impl Layers {
         true
     }
 
-    /// Records a ray crossing `i` in frame `f` (`far`: well before its return); true the first time.
+    /// Records a ray crossing `i` in frame `f`; true the first time in this frame.
     #[inline]
-    pub fn record_crossing(&mut self, i: usize, f: u32, far: bool) -> bool {
+    pub fn record_crossing(&mut self, i: usize, f: u32, how: Crossing) -> bool {
         let t = &mut self.track[i];
+        let (free, far) = (
+            u8::from(how >= Crossing::Free),
+            u8::from(how == Crossing::Far),
+        );
         let last = t.free_frame;
         if last == f {
-            t.far_bits |= far as u8;
+            t.free_bits |= free;
+            t.far_bits |= far;
             return false;
         }
-        t.free_bits = at(t.free_bits, last, f) | 1;
-        t.far_bits = at(t.far_bits, last, f) | far as u8;
+        t.free_bits = at(t.free_bits, last, f) | free;
+        t.far_bits = at(t.far_bits, last, f) | far;
         t.free_frame = f;
         true
     }
 }
 
+/// How far before its return a ray crossed a cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Crossing {
+    /// Within the free gap of the return: inside the return's range noise, possibly the surface
+    /// itself. The cell was looked at (its age is renewed) but not seen free.
+    Near,
+    /// At least the free gap before the return (or along a beam without one): seen free.
+    Free,
+    /// At least the clear margin before the return: seen free through and through.
+    Far,
+}
+
 /// History byte `bits` stamped at frame `last`, read at frame `f`.
 #[inline]
 pub(crate) fn at(bits: u8, last: u32, f: u32) -> u8 {
-    match f.checked_sub(last) {
-        Some(d) if last != 0 && d < 8 => bits << d,
-        _ => 0,
-    }
+    // Branch-free (this runs once per crossed cell): a shift by 8 empties the byte, and a stamp from
+    // the future wraps to a huge distance.
+    let d = f.wrapping_sub(last);
+    let shift = if last == 0 || d >= 8 { 8 } else { d };
+    (u32::from(bits) << shift) as u8
 }
 
 #[cfg(test)]
@@ -186,8 +213,14 @@ mod tests {
         assert_eq!(l.hits(0, 12), 0b1000_0000);
         assert_eq!(l.hits(0, 13), 0);
         assert_eq!(l.hits(0, 4), 0, "a stamp from the future reads as nothing");
-        l.record_crossing(0, 2, false);
-        l.record_crossing(0, 2, true);
+        l.record_crossing(0, 2, Crossing::Free);
+        l.record_crossing(0, 2, Crossing::Far);
         assert_eq!((l.crossed(0, 3), l.crossed_far(0, 3)), (0b10, 0b10));
+        l.record_crossing(0, 4, Crossing::Near);
+        assert_eq!((l.crossed(0, 4), l.crossed_far(0, 4)), (0b100, 0b100));
+        assert_eq!(
+            l.track[0].free_frame, 4,
+            "a near crossing still renews the age"
+        );
     }
 }

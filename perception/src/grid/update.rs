@@ -3,8 +3,8 @@
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{BeamEnd, RangeFrame};
-use super::layers::NO_OBJECT;
-use super::rules::{self, HitDecision, free_space, movable};
+use super::layers::{Crossing, NO_OBJECT};
+use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::Traversal;
 use super::{GridError, ObstacleGrid};
 
@@ -14,10 +14,21 @@ const FREE: u8 = CellClass::Free as u8;
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Scratch {
     hits: Vec<u32>,
+    /// The moving rule's quiet neighbourhood (cells) of each return in `hits`.
+    quiet: Vec<u8>,
     crossed: Vec<u32>,
     decisions: Vec<(u32, HitDecision)>,
     motion: Vec<(i32, i32)>,
     new_moving: Vec<u32>,
+    /// Cells something left this frame (see `stamp_vacated`).
+    vacated: Vec<u32>,
+    /// This frame's visible area as a bitmap (bit `i % 64` of word `i / 64` is cell `i`): [crossed,
+    /// crossed at least the free gap before the return, crossed well before it]. The walk only sets bits here, in an array small enough to stay
+    /// in cache (an eighth of a byte per cell where the cells' histories take twelve); each crossed
+    /// cell's history is then updated once, in row-major order. All zero between frames.
+    seen: Vec<[u64; 3]>,
+    /// The first and last row this frame's walks visited (rows bound the bitmap words to fold).
+    rows: Option<(usize, usize)>,
 }
 
 impl ObstacleGrid {
@@ -41,7 +52,9 @@ impl ObstacleGrid {
         let mut s = std::mem::take(&mut self.scratch);
         self.traverse(frame, &mut s);
         self.stamp_previous_motion();
-        self.classify_returns(now, &mut s);
+        self.stamp_vacated(&mut s);
+        let sensor = self.geom.grid_coords(frame.sensor());
+        self.classify_returns(now, sensor, &mut s);
         self.classify_crossed(now, &s);
         self.expire_motion(&mut s);
         self.scratch = s;
@@ -53,10 +66,16 @@ impl ObstacleGrid {
         let f = self.frame;
         let sensor = frame.sensor();
         s.hits.clear();
-        s.crossed.clear();
-        let margin = self.cfg.clear_margin;
+        s.quiet.clear();
+        let step = mean_beam_step(frame);
+        let (margin, gap) = (self.cfg.clear_margin, self.cfg.free_gap);
         let tail = self.cfg.clear_tail;
         let width = self.geom.width();
+        let n_words = self.geom.len().div_ceil(64);
+        if s.seen.len() != n_words {
+            s.seen = vec![[0; 3]; n_words];
+        }
+        s.rows = None;
         let l = &mut self.layers;
         for beam in frame.beams() {
             let hit_cell = match beam.kind {
@@ -65,12 +84,13 @@ impl ObstacleGrid {
             };
             // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The end of a
             // clear beam is not a surface, so all its crossings are far.
-            let t_far = match beam.kind {
-                BeamEnd::Hit => {
-                    let len = (beam.end - sensor).norm();
-                    if len > 0.0 { 1.0 - margin / len } else { -1.0 }
-                }
-                BeamEnd::Clear => f64::INFINITY,
+            // Likewise "free" when it goes on at least `free_gap`: nearer than that to the return, the
+            // ray may be crossing the returned surface itself (range noise).
+            let len = (beam.end - sensor).norm();
+            let (t_free, t_far) = match beam.kind {
+                BeamEnd::Hit if len > 0.0 => (1.0 - gap / len, 1.0 - margin / len),
+                BeamEnd::Hit => (-1.0, -1.0),
+                BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
             };
             // The last `clear_tail` of a beam without a return is not counted as seen: at the range limit
             // (or the farthest floor point) a return may just have dropped out, and a wall entering the
@@ -86,30 +106,83 @@ impl ObstacleGrid {
                     sensor + d * ((len - tail) / len)
                 }
             };
+            // Cells nearer than `seen_from` lie under the camera's lowest ray: not seen at all.
             let length = (end - sensor).norm();
             let t_seen = if length > 0.0 {
                 beam.seen_from / length
             } else {
                 0.0
             };
+            let seen = s.seen.as_mut_slice();
+            let mut rows = None;
             for rc in Traversal::new(&self.geom, sensor, end) {
-                let i = rc.cell.y as usize * width + rc.cell.x as usize;
                 if Some(rc.cell) == hit_cell {
                     break;
                 }
                 if rc.t_exit <= t_seen {
                     continue;
                 }
-                // Free cells seen free again need no classification: only list the others.
-                if l.record_crossing(i, f, rc.t_exit <= t_far) && l.class[i] != FREE {
-                    s.crossed.push(i as u32);
+                let i = rc.cell.y as usize * width + rc.cell.x as usize;
+                if let Some(word) = seen.get_mut(i >> 6) {
+                    let bit = 1u64 << (i & 63);
+                    word[0] |= bit;
+                    word[1] |= if rc.t_exit <= t_free { bit } else { 0 };
+                    word[2] |= if rc.t_exit <= t_far { bit } else { 0 };
                 }
+                rows = Some(rows.map_or((rc.cell.y, rc.cell.y), |(a, _)| (a, rc.cell.y)));
+            }
+            if let Some((a, b)) = rows {
+                let (a, b) = (a as usize, b as usize);
+                let rows = (a.min(b), a.max(b));
+                s.rows = Some(
+                    s.rows
+                        .map_or(rows, |(lo, hi)| (lo.min(rows.0), hi.max(rows.1))),
+                );
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
             if let Some(c) = hit_cell {
                 let i = c.y as usize * width + c.x as usize;
                 if l.record_hit(i, f) {
                     s.hits.push(i as u32);
+                    let r = moving::quiet_radius(len, step, self.geom.resolution());
+                    s.quiet.push(r as u8);
+                }
+            }
+        }
+        self.record_crossings(s);
+    }
+
+    /// Folds the frame's visible-area bitmaps into the cells' histories (once per crossed cell, in
+    /// row-major order, however many rays crossed it) and lists the crossed cells that are not free
+    /// for classification; leaves the bitmaps zeroed.
+    fn record_crossings(&mut self, s: &mut Scratch) {
+        let f = self.frame;
+        s.crossed.clear();
+        let Some((lo, hi)) = s.rows else {
+            return;
+        };
+        let (width, n) = (self.geom.width(), self.geom.len());
+        let words = lo * width / 64..((hi + 1) * width).div_ceil(64).min(s.seen.len());
+        let l = &mut self.layers;
+        for k in words {
+            let [mut bits, free, far] = std::mem::take(&mut s.seen[k]);
+            while bits != 0 {
+                let b = bits.trailing_zeros();
+                bits &= bits - 1;
+                let i = k * 64 + b as usize;
+                if i >= n {
+                    break;
+                }
+                // Free cells seen free again need no classification: only list the others.
+                let how = if far >> b & 1 != 0 {
+                    Crossing::Far
+                } else if free >> b & 1 != 0 {
+                    Crossing::Free
+                } else {
+                    Crossing::Near
+                };
+                if l.record_crossing(i, f, how) && l.class[i] != FREE {
+                    s.crossed.push(i as u32);
                 }
             }
         }
@@ -121,20 +194,51 @@ impl ObstacleGrid {
         let r = (self.cfg.moving_step / self.geom.resolution())
             .ceil()
             .max(1.0) as usize;
-        let near = &mut self.layers.near_moving;
+        let l = &mut self.layers;
         for &i in &self.moving {
-            self.geom.for_square(i as usize, r, |j| near[j] = f);
+            self.geom
+                .for_square(i as usize, r, |j| l.near_moving[j] = f);
+            if l.confirmed[i as usize] == f - 1 {
+                self.geom
+                    .for_square(i as usize, r, |j| l.near_confirmed[j] = f);
+            }
+        }
+    }
+
+    /// Cells something has just left ([`movable::vacated`]) are motion as much as cells something has
+    /// just entered: their neighbourhood (`moving_step`) counts as near confirmed motion this frame, so
+    /// the side of a pulled suitcase, which slides along itself and looks in place, is seen moving from
+    /// the cells its back end leaves (while the person pulling it is in view). They do not count as
+    /// motion nearby for the rest test: a person walking past a resting suitcase leaves cells behind it
+    /// next to the suitcase longer than it is next to it itself.
+    fn stamp_vacated(&mut self, s: &mut Scratch) {
+        let f = self.frame;
+        s.vacated.clear();
+        let r = (self.cfg.moving_step / self.geom.resolution())
+            .ceil()
+            .max(1.0) as usize;
+        for &i in &s.crossed {
+            if movable::vacated(&self.layers, &self.geom, i as usize, f) {
+                s.vacated.push(i);
+                let l = &mut self.layers;
+                self.geom.for_square(i as usize, r, |j| {
+                    l.near_moving[j] = f;
+                    l.near_confirmed[j] = f;
+                });
+            }
         }
     }
 
     /// Tamura's Fig. 5 for every return of the frame, then the rest test, then the writes.
-    fn classify_returns(&mut self, now: f64, s: &mut Scratch) {
+    fn classify_returns(&mut self, now: f64, sensor: (f64, f64), s: &mut Scratch) {
         let f = self.frame;
         s.decisions.clear();
         s.motion.clear();
         let w = self.geom.width();
-        for &i in &s.hits {
-            let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f);
+
+        for (&i, &quiet) in s.hits.iter().zip(&s.quiet) {
+            let around = (usize::from(quiet), sensor);
+            let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f, around);
             if let HitDecision::Set(CellClass::Moving, _) = d {
                 s.motion
                     .push(((i as usize % w) as i32, (i as usize / w) as i32));
@@ -149,6 +253,14 @@ impl ObstacleGrid {
             let (class, rule) = match d {
                 HitDecision::Keep => continue,
                 HitDecision::Set(c, r) => (c, r),
+                HitDecision::MovingUnlessStill(c, r) => {
+                    let cell = ((i % w) as i32, (i / w) as i32);
+                    if movable::added(cell, &s.motion, rest_cells) {
+                        (c, r)
+                    } else {
+                        (CellClass::Moving, Rule::MovingContinued)
+                    }
+                }
                 HitDecision::RestCandidate
                 | HitDecision::MovableUnlessMotion
                 | HitDecision::ExtendUnlessMotion => {
@@ -171,6 +283,15 @@ impl ObstacleGrid {
             }
             if class == CellClass::Moving {
                 s.new_moving.push(i as u32);
+                // Confirmed: motion near last frame's that reached a cell not moving before, and it
+                // stays confirmed while the cell stays moving. A return that stays in the cell it
+                // appeared in is a blip, however long it stays.
+                let l = &mut self.layers;
+                let was_moving = l.class[i] == CellClass::Moving as u8;
+                if (l.near_moving[i] == f && !was_moving) || (was_moving && l.confirmed[i] == f - 1)
+                {
+                    l.confirmed[i] = f;
+                }
             }
             self.write_passive(i, class, rule, now);
         }
@@ -193,7 +314,9 @@ impl ObstacleGrid {
             let active = is_active(l.evidence[i]);
             let to_free = match class {
                 CellClass::Free => None,
-                CellClass::Unknown | CellClass::Moving => Some(Rule::SeenFree),
+                CellClass::Unknown | CellClass::Moving => {
+                    (l.crossed(i, f) & 1 != 0).then_some(Rule::SeenFree)
+                }
                 CellClass::Movable if !active => {
                     movable::deleted(l, &self.geom, i, f).then_some(Rule::MovableDeletion)
                 }
@@ -223,6 +346,9 @@ impl ObstacleGrid {
             self.geom.for_3x3(i, |j| returned_around |= l.hit_in(j, f));
             if returned_around && !l.crossed_in(i, f) {
                 s.new_moving.push(i as u32);
+                if l.confirmed[i] == f - 1 {
+                    self.layers.confirmed[i] = f;
+                }
             } else {
                 self.layers.class[i] = CellClass::Unknown as u8;
                 self.layers.evidence[i] = pack_rule(Rule::MovingExpired);
@@ -238,5 +364,66 @@ impl ObstacleGrid {
         self.layers.evidence[i] = pack_rule(rule);
         self.layers.object[i] = NO_OBJECT;
         self.check_watch(i, old, class, now);
+    }
+}
+
+/// The mean angle (rad) between consecutive beams of `frame`, which come in bearing order from a
+/// scanner or a camera's columns; 0 for fewer than two beams. Missing columns only widen it, which
+/// widens the moving rule's quiet neighbourhood: the safe side.
+fn mean_beam_step(frame: &RangeFrame) -> f64 {
+    let o = frame.sensor();
+    let beams = frame.beams();
+    let sum: f64 = beams
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (w[0].end - o, w[1].end - o);
+            let n = a.norm() * b.norm();
+            // The sine: the angle itself for beams a fraction of a degree apart, and cheap.
+            if n > 0.0 {
+                (a.perp(&b) / n).abs().min(1.0)
+            } else {
+                0.0
+            }
+        })
+        .sum();
+    if beams.len() > 1 && sum.is_finite() {
+        sum / (beams.len() - 1) as f64
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{CellIndex, GridConfig, GridGeometry};
+    use super::*;
+    use nalgebra::Point2;
+
+    #[test]
+    fn cells_within_the_free_gap_of_a_return_are_observed_not_freed() {
+        // Invariant: along a beam ending in a return, cells left at least `free_gap` before the return
+        // become Free; nearer ones stay Unknown (the ray may run inside the surface) yet count as seen.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 20, 3, 0.05).expect("valid");
+        let cfg = GridConfig {
+            free_gap: 0.1,
+            clear_tail: 0.0,
+            ..GridConfig::default()
+        };
+        let mut grid = ObstacleGrid::new(geom, cfg);
+        let mut frame = RangeFrame::new(Point2::new(0.025, 0.075)).expect("finite");
+        // The return at x = 0.825 lies in cell 16; cell 15 is left at x = 0.80 (2.5 cm before it),
+        // cell 14 at 0.75 (7.5 cm), cell 13 at 0.70 (12.5 cm).
+        frame.push_hit(Point2::new(0.825, 0.075));
+        grid.update(&frame, 1.0).expect("in order");
+        let class = |x| grid.class(CellIndex::new(x, 1)).expect("in grid");
+        assert_eq!(class(13), CellClass::Free);
+        assert_eq!(class(14), CellClass::Unknown);
+        assert_eq!(class(15), CellClass::Unknown);
+        let seen = grid.cell(CellIndex::new(15, 1)).expect("in grid").last_seen;
+        assert_eq!(
+            seen,
+            Some(1.0),
+            "a near crossing still renews the cell's age"
+        );
     }
 }

@@ -19,6 +19,7 @@ pub(crate) fn cleared(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::layers::Crossing;
     use nalgebra::Point2;
 
     #[test]
@@ -26,15 +27,15 @@ mod tests {
         // Invariant: cleared iff crossed far at t and t−1 and no return in the 3×3 block at t or t−1.
         let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
         let mut l = Layers::new(g.len());
-        l.record_crossing(44, 1, true);
+        l.record_crossing(44, 1, Crossing::Far);
         assert!(!cleared(&l, &g, 44, 1));
-        l.record_crossing(44, 2, true);
+        l.record_crossing(44, 2, Crossing::Far);
         assert!(cleared(&l, &g, 44, 2));
         l.record_hit(45, 2);
         assert!(!cleared(&l, &g, 44, 2));
         let mut l = Layers::new(g.len());
-        l.record_crossing(44, 1, false);
-        l.record_crossing(44, 2, true);
+        l.record_crossing(44, 1, Crossing::Free);
+        l.record_crossing(44, 2, Crossing::Far);
         assert!(!cleared(&l, &g, 44, 2), "a near crossing does not count");
     }
 }

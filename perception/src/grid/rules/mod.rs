@@ -28,15 +28,26 @@ pub(crate) enum HitDecision {
     MovableUnlessMotion,
     /// Resting next to a movable cell: joins it (extension) unless motion is seen near it this frame.
     ExtendUnlessMotion,
+    /// In place next to last frame's motion that was not confirmed (a blip): moving while motion is
+    /// seen near it this frame, else this class and rule (the stationary test's verdict).
+    MovingUnlessStill(CellClass, Rule),
 }
 
-/// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`).
-pub(crate) fn decide_hit(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> HitDecision {
+/// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`);
+/// `quiet` is the moving rule's neighbourhood for this return ([`moving::quiet_radius`]) and `sensor`
+/// the sensor's continuous grid coordinates.
+pub(crate) fn decide_hit(
+    l: &Layers,
+    g: &GridGeometry,
+    i: usize,
+    f: u32,
+    (quiet, sensor): (usize, (f64, f64)),
+) -> HitDecision {
     if super::evidence::is_active(l.evidence[i]) && l.class[i] != CellClass::Free as u8 {
         return HitDecision::Keep;
     }
     let class = CellClass::from_code(l.class[i]).unwrap_or(CellClass::Unknown);
-    if moving::appeared_in_free_space(l, g, i, f) {
+    if moving::appeared_in_free_space(l, g, i, f, quiet, sensor) {
         return HitDecision::Set(CellClass::Moving, Rule::Moving);
     }
     if movable::retained(class) {
@@ -47,17 +58,88 @@ pub(crate) fn decide_hit(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> HitD
         return HitDecision::ExtendUnlessMotion;
     }
     if class != CellClass::Stationary && moving::near_previous_motion(l, i, f) {
-        return if rested {
-            HitDecision::RestCandidate
-        } else {
-            HitDecision::Set(CellClass::Moving, Rule::MovingContinued)
+        if !rested {
+            return HitDecision::Set(CellClass::Moving, Rule::MovingContinued);
+        }
+        // Only motion seen going on into new cells comes to rest: a blip (a grazed wall's return
+        // landing in last frame's free space and staying in its cell) must not make its wall movable.
+        if moving::near_confirmed_motion(l, i, f) {
+            return HitDecision::RestCandidate;
+        }
+        return match passive_rest(l, g, i, f, class) {
+            HitDecision::Set(c, r) => HitDecision::MovingUnlessStill(c, r),
+            d => d,
         };
     }
+    passive_rest(l, g, i, f, class)
+}
+
+/// The stationary test (Tamura 3.3 with Chen's neighbours) for a return no motion rule claimed.
+fn passive_rest(l: &Layers, g: &GridGeometry, i: usize, f: u32, class: CellClass) -> HitDecision {
     if stationary::three_frames(l, g, i, f) && !movable::touches_movable(l, g, i) {
         HitDecision::Set(CellClass::Stationary, Rule::Stationary)
     } else if class == CellClass::Stationary {
         HitDecision::Keep
     } else {
         HitDecision::Set(CellClass::Unknown, Rule::Tentative)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point2;
+
+    /// A 10 × 10 grid of 5 cm cells with a return at cell 55 in frame 5 that was returned around in
+    /// frames 3 and 4 (in place), near last frame's motion.
+    fn resting_return_near_motion() -> (GridGeometry, Layers) {
+        let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
+        let mut l = Layers::new(g.len());
+        for f in 3..=5 {
+            l.record_hit(55, f);
+        }
+        l.near_moving[55] = 5;
+        (g, l)
+    }
+
+    const FAR: (usize, (f64, f64)) = (1, (5.0, -1000.0));
+
+    #[test]
+    fn only_confirmed_motion_comes_to_rest() {
+        // Invariant: a return in place next to last frame's motion is a rest candidate (movable by
+        // addition) only when that motion was confirmed (went on into new cells); next to a blip it is
+        // moving while motion is seen near it, else the stationary test decides (here: tentative).
+        let (g, mut l) = resting_return_near_motion();
+        assert_eq!(
+            decide_hit(&l, &g, 55, 5, FAR),
+            HitDecision::MovingUnlessStill(CellClass::Unknown, Rule::Tentative)
+        );
+        l.near_confirmed[55] = 5;
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::RestCandidate);
+    }
+
+    #[test]
+    fn a_return_not_in_place_next_to_motion_continues_it() {
+        // Invariant: near last frame's motion, a return not yet in place is the moving obstacle gone on.
+        let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
+        let mut l = Layers::new(g.len());
+        l.record_hit(55, 5);
+        l.near_moving[55] = 5;
+        assert_eq!(
+            decide_hit(&l, &g, 55, 5, FAR),
+            HitDecision::Set(CellClass::Moving, Rule::MovingContinued)
+        );
+        // A stationary cell is never continued: walls next to a passer-by stay walls.
+        l.class[55] = CellClass::Stationary as u8;
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::Keep);
+    }
+
+    #[test]
+    fn active_evidence_outranks_every_passive_rule() {
+        // Invariant: a cell a push test marked keeps its verdict whatever returns land on it.
+        let (g, mut l) = resting_return_near_motion();
+        l.class[55] = CellClass::Stationary as u8;
+        l.evidence[55] = super::super::evidence::pack_active(3);
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::Keep);
     }
 }

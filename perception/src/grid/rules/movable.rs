@@ -76,9 +76,18 @@ pub(crate) fn deleted(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
     quiet
 }
 
+/// Something has just left the cell: it held a return at t−1 and none now, and a ray crossed it now at
+/// least the clear margin before its return, with no return in its 8-neighbourhood now — the
+/// deletion test (whatever the cell's class) on a cell returned a frame ago. The back end of a pulled
+/// suitcase leaves such cells every frame; a resting object's edge does not (returns stay around it).
+pub(crate) fn vacated(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
+    l.hits(i, f) & 0b11 == 0b10 && deleted(l, g, i, f)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::layers::Crossing;
     use nalgebra::Point2;
 
     fn grid() -> (GridGeometry, Layers) {
@@ -118,14 +127,36 @@ mod tests {
     fn deletion_needs_a_far_crossing_and_no_return_around() {
         // Invariant: only a crossing well before the return, with no return in the 3×3 block, deletes.
         let (g, mut l) = grid();
-        l.record_crossing(44, 4, false);
+        l.record_crossing(44, 4, Crossing::Free);
         assert!(!deleted(&l, &g, 44, 4));
-        l.record_crossing(44, 5, true);
+        l.record_crossing(44, 5, Crossing::Far);
         assert!(deleted(&l, &g, 44, 5));
         l.record_hit(45, 5);
         assert!(
             !deleted(&l, &g, 44, 5),
             "a return next to it: a ray past the object's corner"
         );
+    }
+
+    #[test]
+    fn a_cell_returned_last_frame_and_seen_through_now_is_vacated() {
+        // Invariant: vacated iff returned at t−1, not at t, crossed far at t, no return around at t.
+        let (g, mut l) = grid();
+        l.record_hit(44, 4);
+        l.record_crossing(44, 5, Crossing::Far);
+        assert!(vacated(&l, &g, 44, 5));
+        l.record_hit(34, 5);
+        assert!(
+            !vacated(&l, &g, 44, 5),
+            "a return next to it: the object is still there"
+        );
+        let (g, mut l) = grid();
+        l.record_hit(44, 3);
+        l.record_crossing(44, 5, Crossing::Far);
+        assert!(!vacated(&l, &g, 44, 5), "returned two frames ago only");
+        let (g, mut l) = grid();
+        l.record_hit(44, 4);
+        l.record_crossing(44, 5, Crossing::Free);
+        assert!(!vacated(&l, &g, 44, 5), "crossed just before a return only");
     }
 }

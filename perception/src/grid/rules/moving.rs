@@ -5,23 +5,73 @@ use super::super::geometry::GridGeometry;
 use super::super::layers::Layers;
 
 /// Tamura 3.1: the cell holds a return now and was in the visible area V_{t−1} (and V_{t−2}) as free
-/// space.
+/// space: crossed at least the free gap before a return, so not merely by a ray running along the
+/// surface that returned it.
 ///
 /// Guard (Chen 2.4's 8-neighbourhood, over two frames): nothing was returned in the cell's
-/// 8-neighbourhood at t−1 or t−2. A ray grazing a surface crosses the surface's cells just before its
-/// return; the next frame's return in such a cell is the same surface a cell along, not a new
-/// obstacle. A real moving obstacle entering free space has had nothing returned next to its new cells
-/// in the previous frames. (Longer memories were tried: they also silence an object that starts to
-/// move from rest, whose first new cells lie next to where it rested.)
-pub(crate) fn appeared_in_free_space(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
+/// 8-neighbourhood at t−1 or t−2, nor within `quiet` cells (see [`quiet_radius`]) unless farther from
+/// the sensor (`sensor`: its continuous grid coordinates) than the cell. A ray grazing a surface
+/// crosses the surface's cells between its returns, which lie up to `range · beam step / sin α` apart
+/// along it; the next frame's return in such a cell is the same surface a little along, and one of
+/// the previous returns lies within half that spacing, on the near side or the far side — a surface
+/// receding from the sensor has returns on both. A real moving obstacle entering free space has had
+/// nothing returned next to its new cells in the previous frames, and nothing nearer the sensor within
+/// the quiet radius: what it left behind lies farther away when it comes towards the sensor (stepping
+/// 10 cm a frame, more than the 8-neighbourhood) and to the side of its path otherwise. (Longer
+/// memories were tried: they also silence an object that starts to move from rest, whose first new
+/// cells lie next to where it rested.)
+pub(crate) fn appeared_in_free_space(
+    l: &Layers,
+    g: &GridGeometry,
+    i: usize,
+    f: u32,
+    quiet: usize,
+    sensor: (f64, f64),
+) -> bool {
     // Seen free at t−1 and t−2: one crossing is not yet free space (a surface edge-on is crossed by
     // one ray and returned by the next); free space stays free frame after frame.
     if l.class[i] != CellClass::Free as u8 || l.crossed(i, f) & 0b110 != 0b110 {
         return false;
     }
-    let mut quiet = true;
-    g.for_3x3(i, |j| quiet &= l.hits(j, f) & RECENT == 0);
-    quiet
+    let w = g.width();
+    let (x, y) = ((i % w) as f64, (i / w) as f64);
+    let range2 = |x: f64, y: f64| (x + 0.5 - sensor.0).powi(2) + (y + 0.5 - sensor.1).powi(2);
+    let own = range2(x, y);
+    let mut calm = true;
+    g.for_square(i, quiet.max(1), |j| {
+        if l.hits(j, f) & RECENT == 0 {
+            return;
+        }
+        let (jx, jy) = ((j % w) as f64, (j / w) as f64);
+        let neighbour = (jx - x).abs() <= 1.0 && (jy - y).abs() <= 1.0;
+        calm &= !neighbour && range2(jx, jy) > own;
+    });
+    calm
+}
+
+/// The steepest a surface can be grazed and still return (degrees from the surface): an SR4000-like
+/// camera returns nothing beyond 80° incidence, a laser scanner little beyond.
+pub(crate) const GRAZING_LIMIT_DEG: f64 = 10.0;
+
+/// The widest quiet neighbourhood, in cells (9 × 9).
+const MAX_QUIET: usize = 4;
+
+/// How many cells around a return at `range` (m) the moving rule asks to have been quiet, for beams
+/// `beam_step` (rad) apart on a grid of `resolution` (m) cells.
+///
+/// Along a surface, neighbouring beams return `range · beam_step / sin α` apart, α the grazing angle,
+/// at least [`GRAZING_LIMIT_DEG`]: about 13 cm at 5 m for a 0.25° camera, where the cells are 5 cm. A
+/// return on a surface returned last frame lies within half that spacing of one of last frame's
+/// returns, so the quiet neighbourhood must reach that far — and at least one cell (Chen's
+/// 8-neighbourhood), capped at [`MAX_QUIET`] cells.
+pub(crate) fn quiet_radius(range: f64, beam_step: f64, resolution: f64) -> usize {
+    let half_spacing = range * beam_step / (2.0 * GRAZING_LIMIT_DEG.to_radians().sin());
+    let cells = (half_spacing / resolution).ceil();
+    if cells.is_finite() {
+        (cells as usize).clamp(1, MAX_QUIET)
+    } else {
+        1
+    }
 }
 
 /// History bits of frames t−2 and t−1.
@@ -33,10 +83,21 @@ pub(crate) fn near_previous_motion(l: &Layers, i: usize, f: u32) -> bool {
     l.near_moving[i] == f
 }
 
+/// The cell lies within `moving_step` of a cell that was moving at t−1 and had not been at t−2 but
+/// something nearby had (*confirmed* motion: moving two frames running, and on into a new cell), or of
+/// a cell something has just left.
+pub(crate) fn near_confirmed_motion(l: &Layers, i: usize, f: u32) -> bool {
+    l.near_confirmed[i] == f
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::layers::Crossing;
     use nalgebra::Point2;
+
+    /// A sensor far below the 10 × 10 test grid.
+    const FAR_SENSOR: (f64, f64) = (5.0, -1000.0);
 
     fn grid() -> (GridGeometry, Layers) {
         let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
@@ -50,16 +111,16 @@ mod tests {
         let (g, mut l) = grid();
         let i = 55;
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 1, true);
-        l.record_crossing(i, 2, true);
+        l.record_crossing(i, 1, Crossing::Far);
+        l.record_crossing(i, 2, Crossing::Far);
         l.record_hit(i, 3);
-        assert!(appeared_in_free_space(&l, &g, i, 3));
+        assert!(appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
         let mut l = Layers::new(g.len());
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 2, true);
+        l.record_crossing(i, 2, Crossing::Far);
         l.record_hit(i, 3);
         assert!(
-            !appeared_in_free_space(&l, &g, i, 3),
+            !appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR),
             "one crossing is not free space yet"
         );
     }
@@ -70,11 +131,11 @@ mod tests {
         let (g, mut l) = grid();
         let i = 55;
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 1, false);
-        l.record_crossing(i, 2, false);
+        l.record_crossing(i, 1, Crossing::Free);
+        l.record_crossing(i, 2, Crossing::Free);
         l.record_hit(i + 11, 2);
         l.record_hit(i, 3);
-        assert!(!appeared_in_free_space(&l, &g, i, 3));
+        assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
     }
 
     #[test]
@@ -84,18 +145,18 @@ mod tests {
         let i = 55;
         l.class[i] = CellClass::Free as u8;
         l.record_hit(i - 1, 7);
-        l.record_crossing(i, 7, true);
-        l.record_crossing(i, 8, true);
+        l.record_crossing(i, 7, Crossing::Far);
+        l.record_crossing(i, 8, Crossing::Far);
         l.record_hit(i, 9);
-        assert!(!appeared_in_free_space(&l, &g, i, 9));
+        assert!(!appeared_in_free_space(&l, &g, i, 9, 1, FAR_SENSOR));
         let mut l = Layers::new(g.len());
         l.class[i] = CellClass::Free as u8;
         l.record_hit(i - 1, 6);
-        l.record_crossing(i, 7, true);
-        l.record_crossing(i, 8, true);
+        l.record_crossing(i, 7, Crossing::Far);
+        l.record_crossing(i, 8, Crossing::Far);
         l.record_hit(i, 9);
         assert!(
-            appeared_in_free_space(&l, &g, i, 9),
+            appeared_in_free_space(&l, &g, i, 9, 1, FAR_SENSOR),
             "three frames ago is long enough"
         );
     }
@@ -106,12 +167,51 @@ mod tests {
         let (g, mut l) = grid();
         let i = 55;
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 1, true);
+        l.record_crossing(i, 1, Crossing::Far);
         l.record_hit(i, 3);
-        assert!(!appeared_in_free_space(&l, &g, i, 3));
+        assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
         // And a cell that was never free (unknown) is not moving either.
         l.class[i] = CellClass::Unknown as u8;
-        l.record_crossing(i, 2, true);
-        assert!(!appeared_in_free_space(&l, &g, i, 3));
+        l.record_crossing(i, 2, Crossing::Far);
+        assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
+    }
+
+    #[test]
+    fn a_grazed_wall_needs_a_wider_quiet_neighbourhood_far_away() {
+        // Invariant: the quiet radius covers half the along-surface beam spacing at the grazing limit
+        // (at least one cell, at most four); a return two cells from last frame's return is moving with
+        // the 8-neighbourhood, and with the radius for a 0.25° camera at 4.5 m only if that return lies
+        // farther from the sensor.
+        let step = 0.25_f64.to_radians();
+        assert_eq!(quiet_radius(0.5, step, 0.05), 1);
+        assert_eq!(quiet_radius(4.5, step, 0.05), 2);
+        assert_eq!(quiet_radius(50.0, step, 0.05), 4);
+        assert_eq!(quiet_radius(f64::NAN, step, 0.05), 1);
+        let (g, mut l) = grid();
+        let i = 55;
+        l.class[i] = CellClass::Free as u8;
+        l.record_crossing(i, 1, Crossing::Far);
+        l.record_crossing(i, 2, Crossing::Far);
+        l.record_hit(i + 2, 2);
+        l.record_hit(i, 3);
+        let quiet = quiet_radius(4.5, step, 0.05);
+        assert!(appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
+        // Sensor to the right: last frame's return two cells nearer it blocks; to the left (the return
+        // lies behind the cell, as for something coming towards the sensor) it does not.
+        assert!(!appeared_in_free_space(&l, &g, i, 3, quiet, (20.0, 5.5)));
+        assert!(appeared_in_free_space(&l, &g, i, 3, quiet, (-10.0, 5.5)));
+    }
+
+    #[test]
+    fn a_near_crossing_is_not_free_space() {
+        // Invariant: crossings within the free gap of their return (recorded Near) do not make the cell
+        // last frames' free space.
+        let (g, mut l) = grid();
+        let i = 55;
+        l.class[i] = CellClass::Free as u8;
+        l.record_crossing(i, 1, Crossing::Near);
+        l.record_crossing(i, 2, Crossing::Near);
+        l.record_hit(i, 3);
+        assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
     }
 }
