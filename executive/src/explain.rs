@@ -23,6 +23,20 @@ pub struct TestRecord {
     pub finding: Finding,
 }
 
+/// `obj-4 #1: peak 18.0 N, ICP 138.7 mm, hand 141.7 mm -> Movable`: one line for logs and reports.
+impl std::fmt::Display for TestRecord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let icp = self
+            .icp_mm
+            .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
+        write!(
+            f,
+            "{} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
+            self.object, self.attempt, self.peak_force, self.hand_travel_mm, self.finding
+        )
+    }
+}
+
 /// What the executive knew when the run ended, for `NoPathToGoal` and `Aborted`.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Explanation {
@@ -64,14 +78,7 @@ impl std::fmt::Display for Explanation {
             writeln!(f, "no path: {reason}")?;
         }
         for t in &self.tests {
-            let icp = t
-                .icp_mm
-                .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
-            writeln!(
-                f,
-                "push test {} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
-                t.object, t.attempt, t.peak_force, t.hand_travel_mm, t.finding
-            )?;
+            writeln!(f, "push test {t}")?;
         }
         for (id, v) in &self.verdicts {
             writeln!(f, "{id}: {v:?}")?;

@@ -207,16 +207,7 @@ pub fn cheapest_crossing(
             break;
         }
         let (x, y) = ((i % nx) as isize, (i / nx) as isize);
-        for (dx, dy) in [
-            (1, 0),
-            (-1, 0),
-            (0, 1),
-            (0, -1),
-            (1, 1),
-            (1, -1),
-            (-1, 1),
-            (-1, -1),
-        ] {
+        for (dx, dy) in crate::reach::NEIGHBOURS.map(|(dx, dy)| (dx as isize, dy as isize)) {
             let (x2, y2) = (x + dx, y + dy);
             if x2 < 0 || y2 < 0 || x2 >= nx as isize || y2 >= ny as isize {
                 continue;

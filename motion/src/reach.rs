@@ -78,7 +78,8 @@ pub fn certainly_unreachable(validity: &Validity, start: &Point2<f64>, goal: &Go
     true
 }
 
-const NEIGHBOURS: [(i64, i64); 8] = [
+/// The 8-neighbourhood of a grid cell, as (column, row) steps.
+pub(crate) const NEIGHBOURS: [(i64, i64); 8] = [
     (1, 0),
     (-1, 0),
     (0, 1),

@@ -38,19 +38,7 @@ impl RunSummary {
             _ => String::new(),
         };
         let explanation = &report.knowledge.explanation;
-        let tests = explanation
-            .tests
-            .iter()
-            .map(|t| {
-                let icp = t
-                    .icp_mm
-                    .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
-                format!(
-                    "{} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
-                    t.object, t.attempt, t.peak_force, t.hand_travel_mm, t.finding
-                )
-            })
-            .collect();
+        let tests = explanation.tests.iter().map(ToString::to_string).collect();
         let verdicts = explanation
             .verdicts
             .iter()

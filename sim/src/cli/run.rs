@@ -102,13 +102,7 @@ fn summarise(report: &RunReport, wall: f64) {
     let explanation = &report.knowledge.explanation;
     println!("push tests   {}", report.knowledge.push_tests);
     for t in &explanation.tests {
-        let icp = t
-            .icp_mm
-            .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
-        println!(
-            "  {} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
-            t.object, t.attempt, t.peak_force, t.hand_travel_mm, t.finding
-        );
+        println!("  {t}");
     }
     for (id, verdict) in &explanation.verdicts {
         println!("verdict      {id} is {}", verdict_word(verdict));
