@@ -163,6 +163,35 @@ fn an_open_room_reaches_the_goal_without_a_push() {
     assert!(scored.is_empty() && report.knowledge.push_tests == 0);
 }
 
+#[test]
+fn tight_stand_poses_are_reached_with_less_clearance() {
+    // Invariant: on the noise seeds where perception's hulls leave no stand pose reachable with full clearance after the table test (7 and 9), the push is planned with less, so all-static still tests every blocking object and cluttered-room still reaches the goal.
+    for seed in [7, 9] {
+        let all_static = nudge_tests::scenario("all-static").expect("scenario loads");
+        let (report, robot) =
+            nudge_tests::run(&all_static, seed, CandidatePolicy::Nearest, NullObserver)
+                .expect("world builds");
+        let scored = score(&report, &robot);
+        assert!(
+            matches!(report.outcome, State::NoPathToGoal(_)),
+            "seed {seed}"
+        );
+        assert_all_correct(&scored);
+        for name in ["table", "chair-1", "chair-2"] {
+            assert!(
+                named(&scored, name).is_some(),
+                "seed {seed}: {name} was not tested"
+            );
+        }
+        let cluttered = nudge_tests::scenario("cluttered-room").expect("scenario loads");
+        let (report, robot) =
+            nudge_tests::run(&cluttered, seed, CandidatePolicy::Blocking, NullObserver)
+                .expect("world builds");
+        assert_eq!(report.outcome, State::Goal, "seed {seed}");
+        assert_all_correct(&score(&report, &robot));
+    }
+}
+
 /// Records where the robot's base was at every tick.
 #[derive(Default)]
 struct Track(Vec<(f64, Point2<f64>)>);

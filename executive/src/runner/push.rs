@@ -1,7 +1,7 @@
 //! Pushing: planning a push, the push test (force, hand travel, colour ICP), and clearing the way.
 
 use nalgebra::{Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2, Vector3};
-use nudge_motion::{GoalRegion, Obstacle, plan_push};
+use nudge_motion::{GoalRegion, Obstacle, StateValidity, plan_push};
 use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colour_icp};
 
 use super::{Interrupt, Runner};
@@ -39,10 +39,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(p) => Point2::from(p.value.translation.vector),
             Err(e) => return Interrupt::Robot(e).into(),
         };
-        let validity = match self.world.validity(&here, &self.config) {
-            Ok(v) => v,
-            Err(reason) => return Event::NoPushPlan { reason },
-        };
         let Some(prism) = self.prism(target).cloned() else {
             return Event::NoPushPlan {
                 reason: format!("{target} is no longer seen"),
@@ -56,14 +52,34 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 };
             }
         };
-        match plan_push(
-            &prism,
-            &validity,
-            &here,
-            &goal,
-            &self.config.push,
-            &mut self.rng,
-        ) {
+        // Full clearance first; where no stand pose is reachable with it (perception's hulls a few
+        // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
+        // of contact anyway.
+        let mut planned = Err("no planning bounds".to_string());
+        for fraction in [1.0, 0.5, 0.0] {
+            let validity = match self.world.validity_with(
+                &here,
+                &self.config,
+                self.config.clearance * fraction,
+            ) {
+                Ok(v) if v.is_free(&here) => v,
+                Ok(_) => continue,
+                Err(reason) => return Event::NoPushPlan { reason },
+            };
+            planned = plan_push(
+                &prism,
+                &validity,
+                &here,
+                &goal,
+                &self.config.push,
+                &mut self.rng,
+            )
+            .map_err(|e| e.to_string());
+            if planned.is_ok() {
+                break;
+            }
+        }
+        match planned {
             Ok(plan) => {
                 let intent = PushIntent {
                     target,
@@ -77,9 +93,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.world.push_plan = Some(plan);
                 Event::PushPlanned(intent)
             }
-            Err(e) => Event::NoPushPlan {
-                reason: e.to_string(),
-            },
+            Err(reason) => Event::NoPushPlan { reason },
         }
     }
 

@@ -75,7 +75,8 @@ impl WorldModel {
         last
     }
 
-    fn validity_with(
+    /// The validity checker for a robot grown by `clearance` (m).
+    pub fn validity_with(
         &self,
         robot: &Point2<f64>,
         config: &RunConfig,
