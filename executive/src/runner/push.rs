@@ -56,12 +56,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
         // of contact anyway.
         let mut planned = Err("no planning bounds".to_string());
-        for fraction in [1.0, 0.5, 0.0] {
-            let validity = match self.world.validity_with(
-                &here,
-                &self.config,
-                self.config.clearance * fraction,
-            ) {
+        for validity in self.world.validities(&here, &self.config) {
+            let validity = match validity {
                 Ok(v) if v.is_free(&here) => v,
                 Ok(_) => continue,
                 Err(reason) => return Event::NoPushPlan { reason },

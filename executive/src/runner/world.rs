@@ -30,6 +30,11 @@ pub(crate) struct WorldModel {
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
 }
 
+/// Clearances tried when planning, as fractions of the configured one, largest first: where the robot
+/// already stands closer than that to something (after a push, where a walk stopped short, in a tight
+/// room), less.
+const CLEARANCE_FRACTIONS: [f64; 3] = [1.0, 0.5, 0.0];
+
 /// Points higher than this are ignored when growing the seen box (m): ceilings, not rooms.
 const SEEN_MAX_HEIGHT: f32 = 2.5;
 
@@ -64,8 +69,8 @@ impl WorldModel {
     /// push, or where the walk stopped short).
     pub fn validity(&self, robot: &Point2<f64>, config: &RunConfig) -> Result<Validity, String> {
         let mut last = Err("no planning bounds".to_string());
-        for fraction in [1.0, 0.5, 0.0] {
-            last = self.validity_with(robot, config, config.clearance * fraction);
+        for validity in self.validities(robot, config) {
+            last = validity;
             if let Ok(v) = &last
                 && nudge_motion::StateValidity::is_free(v, robot)
             {
@@ -75,9 +80,38 @@ impl WorldModel {
         last
     }
 
-    /// The validity checker for a robot grown by `clearance` (m).
-    pub fn validity_with(
+    /// Validity checkers for a robot grown by the configured clearance, then half of it, then none,
+    /// each made when asked for; the obstacles (prisms and the grid's moving cells) are gathered once.
+    pub fn validities<'a>(
+        &'a self,
+        robot: &'a Point2<f64>,
+        config: &'a RunConfig,
+    ) -> impl Iterator<Item = Result<Validity, String>> + 'a {
+        let obstacles = self.obstacles(robot, config);
+        CLEARANCE_FRACTIONS
+            .into_iter()
+            .map(move |f| self.validity_over(&obstacles, robot, config, config.clearance * f))
+    }
+
+    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving that
+    /// no prism explains.
+    fn obstacles(&self, robot: &Point2<f64>, config: &RunConfig) -> Vec<Prism> {
+        let mut obstacles = self.prisms.clone();
+        if let Some(grid) = &self.grid {
+            obstacles.extend(super::grid::moving_obstacles(
+                grid,
+                &self.prisms,
+                robot,
+                config.robot.radius,
+            ));
+        }
+        obstacles
+    }
+
+    /// The validity checker over `obstacles` for a robot grown by `clearance` (m).
+    fn validity_over(
         &self,
+        obstacles: &[Prism],
         robot: &Point2<f64>,
         config: &RunConfig,
         clearance: f64,
@@ -94,17 +128,7 @@ impl WorldModel {
         let grow = nalgebra::Vector2::repeat(clearance);
         let bounds =
             Bounds::new(bounds.min() - grow, bounds.max() + grow).map_err(|e| e.to_string())?;
-        // Motion reads the grid: what it saw moving, and nothing perceived explains, is avoided too.
-        let mut obstacles = self.prisms.clone();
-        if let Some(grid) = &self.grid {
-            obstacles.extend(super::grid::moving_obstacles(
-                grid,
-                &self.prisms,
-                robot,
-                config.robot.radius,
-            ));
-        }
-        Validity::new(cylinder, bounds, &obstacles, config.validity).map_err(|e| e.to_string())
+        Validity::new(cylinder, bounds, obstacles, config.validity).map_err(|e| e.to_string())
     }
 
     /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a
