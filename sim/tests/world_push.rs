@@ -94,6 +94,42 @@ fn sliding_chair_reads_its_friction_force() {
 }
 
 #[test]
+fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
+    // Every quarter second of a chair sliding under the hand at 2 cm/s reads within 1 N of μ m g: no stale contact points (rapier's contact recycling) hold the force above friction once the chair slides.
+    let s = robot_and(
+        "name = \"chair\"\nkind = \"chair\"\nyaw = 180.0\nposition = [1.8, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 4.0\nfriction = 0.4\ncolour = [40, 120, 200]",
+    );
+    let mut robot = SimRobot::new(&s, 3).expect("world");
+    let motion = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.43),
+        to: Point3::new(0.7, 0.0, 0.43),
+        speed: 0.02,
+        force_limit: 40.0,
+    };
+    let (trace, outcome) = push(&mut robot, motion);
+    assert_eq!(outcome, HandOutcome::Reached);
+    let contact = trace.iter().find(|s| s.force > 1.0).expect("contact").t;
+    let stop = trace.last().expect("trace").t;
+    let sliding: Vec<f64> = trace
+        .iter()
+        .filter(|s| s.t > contact + 0.5 && s.t < stop - 0.1)
+        .map(|s| s.force)
+        .collect();
+    let mu_m_g = 0.4 * 4.0 * 9.81;
+    let windows: Vec<f64> = sliding
+        .chunks(250)
+        .map(|w| w.iter().sum::<f64>() / w.len() as f64)
+        .collect();
+    assert!(windows.len() >= 20, "only {} windows", windows.len());
+    for (k, mean) in windows.iter().enumerate() {
+        assert!(
+            (mean - mu_m_g).abs() < 1.0,
+            "window {k}: {mean:.2} N vs μmg {mu_m_g:.2} N"
+        );
+    }
+}
+
+#[test]
 fn fixed_table_stops_the_push_at_the_limit() {
     // Pushing a bolted table ends at the 20 N limit with the hand < 5 mm past first contact (> 1 N),
     // and the peak force stays below 110 % of the limit.

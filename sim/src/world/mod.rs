@@ -38,6 +38,8 @@ pub const COARSE_STEP_US: u64 = 10_000;
 /// bounding boxes). A coarse step moves the hand at most 5 mm along a line (0.5 m/s, the fastest
 /// guarded move) plus 1.5 mm with the walking base: 5 cm is ten coarse steps of warning.
 pub const NEAR_CONTACT: f32 = 0.05;
+/// How far a contact pair may move before rapier recomputes its contact points (m).
+pub const CONTACT_RECYCLE_DISTANCE: f32 = 0.002;
 /// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
 /// presses on something that does not give (three times the paper's 20 N push limit).
 pub const HAND_OVERLOAD: f64 = 60.0;
@@ -121,6 +123,12 @@ impl World {
         // One Coulomb cone per contact point: the simplified model under-reads a sliding chair's
         // friction (μ m g is what the push test measures).
         physics.integration_parameters.friction_model = FrictionModel::Coulomb;
+        // Contact points are recomputed once a pair has moved 2 mm. Rapier's default, 5 cm, keeps a
+        // chair's resting contacts for the first seconds of a 2 cm/s push, and they read up to
+        // 1.6 N above μ m g (the force a push test compares with its limit).
+        physics
+            .integration_parameters
+            .normalized_contact_recycle_distance = CONTACT_RECYCLE_DISTANCE;
         let mut surfaces = HashMap::new();
         build::build_room(room, &mut physics.colliders, &mut surfaces);
         let mut objects = Vec::with_capacity(scenario.objects.len());
