@@ -76,7 +76,8 @@
 //! slice); the rules' per-frame bookkeeping is one 16-byte record per cell so a ray step touches one
 //! cache line. Histories are frame-stamped bit bytes and a cell's last observation is its latest frame
 //! number (looked up in a per-frame stamp table), so nothing is cleared or swept per frame: an update
-//! costs O(cells crossed + returns × neighbourhood).
+//! costs O(cells crossed + returns × neighbourhood), plus O(beams · log beams) for the ray rule's
+//! previous frame ordered by bearing (a few per cent of a laser update).
 
 mod active;
 mod class;
