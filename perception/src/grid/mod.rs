@@ -20,8 +20,9 @@
 //!    Stationary cell: seen from the previous frame's sensor position, the two previous beams
 //!    straddling its bearing and the next one out on each side all went on at least `appear_gap`
 //!    past it with nothing returned — it appeared inside what the previous frame saw empty. This
-//!    needs no cell seen free twice, so a person walking in from the range limit is moving from its
-//!    second frame; a static surface cannot lie beyond itself on both sides of a bearing, and a wall
+//!    needs no cell seen free twice, so a person walking in from a laser's range limit is moving from
+//!    its second frame (from its third for a camera, whose clear beams end at the farthest floor
+//!    point, short of the limit); a static surface cannot lie beyond itself on both sides of a bearing, and a wall
 //!    entering the range limit was beyond every previous beam. One binary search per return.
 //! 2. **Movable retention** (Tamura 3.2.2, `rules/movable.rs`): a movable cell stays movable — unless
 //!    motion is nearby (the movable obstacle is being moved: moving).

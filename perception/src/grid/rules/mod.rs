@@ -141,6 +141,23 @@ mod tests {
     }
 
     #[test]
+    fn a_return_that_appeared_on_the_ray_is_moving_unless_it_is_a_wall() {
+        // Invariant: a return the ray rule found appearing is Moving whatever the cell held (unknown,
+        // movable: the movable obstacle is being moved), except in a Stationary cell, which keeps its
+        // class; without the ray rule the same return is not Moving.
+        let (g, mut l) = resting_return_near_motion();
+        l.near_moving[55] = 0;
+        let appeared = (1, (5.0, -1000.0), true);
+        let moving = HitDecision::Set(CellClass::Moving, Rule::Appeared);
+        assert_eq!(decide_hit(&l, &g, 55, 5, appeared), moving);
+        assert_ne!(decide_hit(&l, &g, 55, 5, FAR), moving);
+        l.class[55] = CellClass::Movable as u8;
+        assert_eq!(decide_hit(&l, &g, 55, 5, appeared), moving);
+        l.class[55] = CellClass::Stationary as u8;
+        assert_eq!(decide_hit(&l, &g, 55, 5, appeared), HitDecision::Keep);
+    }
+
+    #[test]
     fn active_evidence_outranks_every_passive_rule() {
         // Invariant: a cell a push test marked keeps its verdict whatever returns land on it.
         let (g, mut l) = resting_return_near_motion();
