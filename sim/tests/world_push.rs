@@ -59,15 +59,18 @@ fn sliding_chair_reads_its_friction_force() {
     // Tilt of the chair's z axis from vertical.
     let up = end.rotation * nalgebra::Vector3::z();
     assert!(up.z > 0.99, "chair tipped: up = {up:?}");
-    // Sliding: from 0.5 s after first contact until the hand stops.
-    let contact = trace.iter().find(|s| s.force > 1.0).expect("contact").t;
+    // Sliding: from 0.5 s after first contact (the executive's 2 N threshold, ten times the noise
+    // per axis) until the hand stops.
+    let contact = trace.iter().find(|s| s.force > 2.0).expect("contact").t;
     let approach_peak = trace
         .iter()
         .filter(|s| s.t < contact)
         .map(|s| s.force)
         .fold(0.0, f64::max);
+    // Accelerating the 0.5 kg hand takes 0.25 N; the sensor's noise (σ 0.2 N per axis) reaches 1 N
+    // about once in a run's thousands of free-motion samples.
     assert!(
-        approach_peak <= 1.0,
+        approach_peak <= 1.5,
         "free hand motion read {approach_peak} N"
     );
     let stop = trace.last().expect("trace").t;
@@ -108,7 +111,7 @@ fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
     };
     let (trace, outcome) = push(&mut robot, motion);
     assert_eq!(outcome, HandOutcome::Reached);
-    let contact = trace.iter().find(|s| s.force > 1.0).expect("contact").t;
+    let contact = trace.iter().find(|s| s.force > 2.0).expect("contact").t;
     let stop = trace.last().expect("trace").t;
     let sliding: Vec<f64> = trace
         .iter()
