@@ -73,6 +73,15 @@ pub struct ClassifierConfig {
     pub unconverged_min_fitness: f64,
 }
 
+impl ClassifierConfig {
+    /// Whether an ICP reading is good enough to read: converged, or stopped short with a good fit. A
+    /// chair pushed 14 cm can end ICP's iterations oscillating with 99.7 % inliers and 5.8 mm RMSE:
+    /// its reading is as good as a converged one (and a motion reading must agree with the hand anyway).
+    pub fn trusts(&self, icp: &IcpReading) -> bool {
+        icp.converged || icp.fitness >= self.unconverged_min_fitness
+    }
+}
+
 impl Default for ClassifierConfig {
     fn default() -> Self {
         Self {
@@ -150,13 +159,7 @@ pub fn classify(evidence: &PushEvidence, config: &ClassifierConfig) -> Finding {
     if !evidence.contact {
         return Finding::Ambiguous(Ambiguity::NoContact);
     }
-    // A converged ICP is trusted; an unconverged one only with a good fit. A chair pushed 14 cm can
-    // end ICP's iterations oscillating with 99.7 % inliers and 5.8 mm RMSE: its reading is as good as
-    // a converged one, and a motion reading must agree with the hand anyway.
-    let Some(icp) = evidence
-        .icp
-        .filter(|icp| icp.converged || icp.fitness >= config.unconverged_min_fitness)
-    else {
+    let Some(icp) = evidence.icp.filter(|icp| config.trusts(icp)) else {
         return Finding::Ambiguous(Ambiguity::IcpFailed);
     };
     let moved = icp.displacement >= config.still_below;

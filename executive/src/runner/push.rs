@@ -139,9 +139,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 let shift = direction * stroke.travel_after_contact;
                 let after = self.object_points(p, shift)?;
                 let reading = icp_reading(&before, &after, shift);
+                let classifier = &self.config.executive.classifier;
+                // Whatever the finding, a trusted motion reading is where the object is now: a retest
+                // plans from there.
                 if let Some((icp, moved)) = reading
-                    && icp.converged
-                    && icp.displacement >= self.config.executive.classifier.still_below
+                    && classifier.trusts(&icp)
+                    && icp.displacement >= classifier.still_below
                 {
                     self.displace(intent.target, moved);
                 }
