@@ -40,6 +40,9 @@ pub struct ExecutiveConfig {
     pub max_jams: u32,
     /// Clearing pushes of one object after which it is no longer tried.
     pub max_clears_per_object: u32,
+    /// Looks around (about 10 s each) before clearing an object only passive evidence calls movable:
+    /// Tamura's rule calls a person who stopped movable too, and a person usually walks on.
+    pub passive_waits: u32,
     /// Force limit of a push test's guarded move (N): reaching it means static. The paper: 20 N.
     pub force_limit: f64,
     /// Force limit of a clearing stroke (N). The object is known to move, so this only has to catch
@@ -59,6 +62,7 @@ impl Default for ExecutiveConfig {
             max_robot_time: 1800.0,
             max_jams: 2,
             max_clears_per_object: 3,
+            passive_waits: 2,
             force_limit: 20.0,
             clear_force_limit: 30.0,
             classifier: ClassifierConfig::default(),

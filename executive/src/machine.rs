@@ -26,6 +26,8 @@ pub struct Knowledge {
     pub replans: u32,
     /// Clearing pushes finished per object.
     pub clears: BTreeMap<ObjectId, u32>,
+    /// Looks taken while waiting for an object only passive evidence calls movable, per object.
+    pub waits: BTreeMap<ObjectId, u32>,
 }
 
 /// Every edge of the machine, for timelines and coverage.
@@ -52,6 +54,10 @@ pub enum Edge {
     ReplanLimit,
     /// SelectCandidate → ApproachPushPose(Clear): the candidate is already known movable.
     KnownMovable,
+    /// SelectCandidate → LookAround: the candidate is movable on passive evidence only (it was seen
+    /// moving and came to rest), which a person who stopped is too: look again before pushing it, so
+    /// something that moves by itself has time to go.
+    WaitForMover,
     /// SelectCandidate → ApproachPushPose(Test).
     Candidate,
     /// A push test past the limit → Stopping.
@@ -102,7 +108,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 33] = [
+    pub const ALL: [Edge; 34] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -113,6 +119,7 @@ impl Edge {
         Edge::WalkBlocked,
         Edge::ReplanLimit,
         Edge::KnownMovable,
+        Edge::WaitForMover,
         Edge::Candidate,
         Edge::PushTestLimit,
         Edge::NoCandidateLeft,
@@ -415,11 +422,23 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
             Edge::NoCandidateLeft,
         );
     };
-    let known_movable = candidate.passively_movable
-        || k.explanation
-            .verdicts
-            .get(&candidate.id)
-            .is_some_and(Verdict::is_movable);
+    let tested_movable = k
+        .explanation
+        .verdicts
+        .get(&candidate.id)
+        .is_some_and(Verdict::is_movable);
+    let waited = k.waits.get(&candidate.id).copied().unwrap_or(0);
+    if candidate.passively_movable && !tested_movable && waited < config.passive_waits {
+        let mut k = k;
+        k.waits.insert(candidate.id, waited + 1);
+        return step(
+            State::LookAround,
+            k,
+            vec![Command::LookAround],
+            Edge::WaitForMover,
+        );
+    }
+    let known_movable = candidate.passively_movable || tested_movable;
     let (purpose, edge) = if known_movable {
         (Purpose::Clear, Edge::KnownMovable)
     } else {

@@ -163,10 +163,20 @@ cases! {
         assert_eq!(s.commands, vec![Command::SafeStop]);
         s.edge
     }
-    a_known_movable_candidate_skips_the_push_test => {
-        // Invariant: an object the grid saw moving is cleared without a push test.
+    a_passively_movable_candidate_is_looked_at_again_first => {
+        // Invariant: an object movable on passive evidence alone (a person who stopped is too) is not pushed at once: the robot looks again, and counts the wait.
         let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true }]);
         let s = run(State::SelectCandidate, &Knowledge::default(), e);
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        assert_eq!(s.knowledge.waits.get(&CHAIR), Some(&1));
+        s.edge
+    }
+    a_known_movable_candidate_skips_the_push_test => {
+        // Invariant: an object the grid saw moving, still there after the waits, is cleared without a push test.
+        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true }]);
+        let mut k = Knowledge::default();
+        k.waits.insert(CHAIR, config().passive_waits);
+        let s = run(State::SelectCandidate, &k, e);
         assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::Planning));
         assert_eq!(s.commands, vec![Command::PlanPush { target: CHAIR, purpose: Purpose::Clear }]);
         s.edge
