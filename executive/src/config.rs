@@ -40,8 +40,9 @@ pub struct ExecutiveConfig {
     pub max_jams: u32,
     /// Clearing pushes of one object after which it is no longer tried.
     pub max_clears_per_object: u32,
-    /// Looks around (about 10 s each) before clearing an object only passive evidence calls movable:
-    /// Tamura's rule calls a person who stopped movable too, and a person usually walks on.
+    /// Looks around (about 10 s each) per obstacle before pushing one the grid saw moving lately or
+    /// calls movable on passive evidence alone, or giving up on one that is in the way: Tamura's rule
+    /// calls a person who stopped movable too, and a person usually walks on.
     pub passive_waits: u32,
     /// Force limit of a push test's guarded move (N): reaching it means static. The paper: 20 N.
     pub force_limit: f64,

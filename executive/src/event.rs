@@ -11,6 +11,9 @@ pub struct Candidate {
     pub id: ObjectId,
     /// The obstacle-type grid already knows it as movable from passive evidence (it was seen moving).
     pub passively_movable: bool,
+    /// The grid saw it (or something where it stands) moving lately, in a look or a walk: it may be a
+    /// person, who may walk on.
+    pub moved_lately: bool,
 }
 
 /// Something that happened, fed to the machine by the runner.

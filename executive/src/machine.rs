@@ -54,9 +54,9 @@ pub enum Edge {
     ReplanLimit,
     /// SelectCandidate → ApproachPushPose(Clear): the candidate is already known movable.
     KnownMovable,
-    /// SelectCandidate → LookAround: the candidate is movable on passive evidence only (it was seen
-    /// moving and came to rest), which a person who stopped is too: look again before pushing it, so
-    /// something that moves by itself has time to go.
+    /// SelectCandidate → LookAround: the candidate moved lately or is movable on passive evidence only
+    /// (it was seen moving and came to rest), as a person who stopped is; or nothing is left to push but
+    /// something in the way moved lately. Look again, so something that moves by itself has time to go.
     WaitForMover,
     /// SelectCandidate → ApproachPushPose(Test).
     Candidate,
@@ -398,6 +398,17 @@ fn settled(k: &Knowledge, config: &ExecutiveConfig) -> Vec<ObjectId> {
     out
 }
 
+/// Looks around again, counting a wait on `id`.
+fn wait_for(id: ObjectId, mut k: Knowledge) -> Step {
+    *k.waits.entry(id).or_insert(0) += 1;
+    step(
+        State::LookAround,
+        k,
+        vec![Command::LookAround],
+        Edge::WaitForMover,
+    )
+}
+
 fn select_candidate(k: Knowledge, config: &ExecutiveConfig, edge: Edge) -> Step {
     let exclude = settled(&k, config);
     step(
@@ -413,7 +424,15 @@ fn select_candidate(k: Knowledge, config: &ExecutiveConfig, edge: Edge) -> Step 
 
 fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
     let exclude = settled(&k, config);
+    let waited = |k: &Knowledge, id: ObjectId| k.waits.get(&id).copied().unwrap_or(0);
     let Some(candidate) = list.iter().find(|c| !exclude.contains(&c.id)) else {
+        // Nothing left to push, but something in the way moved lately: it may walk on.
+        if let Some(mover) = list
+            .iter()
+            .find(|c| c.moved_lately && waited(&k, c.id) < config.passive_waits)
+        {
+            return wait_for(mover.id, k);
+        }
         let explanation = k.explanation.clone();
         return step(
             State::NoPathToGoal(explanation),
@@ -427,16 +446,11 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
         .verdicts
         .get(&candidate.id)
         .is_some_and(Verdict::is_movable);
-    let waited = k.waits.get(&candidate.id).copied().unwrap_or(0);
-    if candidate.passively_movable && !tested_movable && waited < config.passive_waits {
-        let mut k = k;
-        k.waits.insert(candidate.id, waited + 1);
-        return step(
-            State::LookAround,
-            k,
-            vec![Command::LookAround],
-            Edge::WaitForMover,
-        );
+    // Something that may move by itself (seen moving lately, or movable on passive evidence alone,
+    // as a person who stopped is) is looked at again before it is pushed.
+    let may_walk_on = candidate.moved_lately || candidate.passively_movable;
+    if may_walk_on && !tested_movable && waited(&k, candidate.id) < config.passive_waits {
+        return wait_for(candidate.id, k);
     }
     let known_movable = candidate.passively_movable || tested_movable;
     let (purpose, edge) = if known_movable {

@@ -58,6 +58,7 @@ fn candidates(ids: &[ObjectId]) -> Event {
             .map(|&id| Candidate {
                 id,
                 passively_movable: false,
+                moved_lately: false,
             })
             .collect(),
     )
@@ -165,15 +166,26 @@ cases! {
     }
     a_passively_movable_candidate_is_looked_at_again_first => {
         // Invariant: an object movable on passive evidence alone (a person who stopped is too) is not pushed at once: the robot looks again, and counts the wait.
-        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true }]);
+        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }]);
         let s = run(State::SelectCandidate, &Knowledge::default(), e);
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
         assert_eq!(s.knowledge.waits.get(&CHAIR), Some(&1));
         s.edge
     }
+    nothing_left_but_a_mover_waits_for_it => {
+        // Invariant: when every candidate is settled but one that moved lately (a person standing in the way), the robot looks again instead of giving up, as many times as passive_waits allows.
+        let person = Candidate { id: CHAIR, passively_movable: false, moved_lately: true };
+        let mut k = with_static(CHAIR);
+        let s = run(State::SelectCandidate, &k, Event::CandidatesRanked(vec![person.clone()]));
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        k.waits.insert(CHAIR, config().passive_waits);
+        let s2 = run(State::SelectCandidate, &k, Event::CandidatesRanked(vec![person]));
+        assert!(matches!(s2.state, State::NoPathToGoal(_)));
+        s.edge
+    }
     a_known_movable_candidate_skips_the_push_test => {
         // Invariant: an object the grid saw moving, still there after the waits, is cleared without a push test.
-        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true }]);
+        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }]);
         let mut k = Knowledge::default();
         k.waits.insert(CHAIR, config().passive_waits);
         let s = run(State::SelectCandidate, &k, e);

@@ -242,6 +242,38 @@ fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
 }
 
 #[test]
+fn a_person_standing_in_the_only_doorway_is_waited_for_not_given_up_on() {
+    // Invariant: when the only way is blocked by a person the grid saw walk in, the robot looks again instead of ending in NoPathToGoal, pushes nothing, never comes closer than the two radii, and goes through once the person has walked on.
+    let scenario = nudge_tests::scenario("person-in-doorway").expect("scenario loads");
+    let (report, _, track) = nudge_sim::run::run(
+        &scenario,
+        scenario.seed,
+        CandidatePolicy::Nearest,
+        Track::default(),
+    )
+    .expect("world builds");
+    for t in &report.timeline {
+        println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
+    }
+    assert_eq!(report.outcome, State::Goal);
+    assert_eq!(report.knowledge.push_tests, 0);
+    let edges: Vec<Edge> = report.timeline.iter().map(|t| t.edge).collect();
+    assert!(edges.contains(&Edge::WaitForMover), "the robot waited");
+    let person = &scenario.actors[0];
+    let plan = Plan::new(person).expect("valid actor");
+    let closest = track
+        .0
+        .iter()
+        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
+        .fold(f64::INFINITY, f64::min);
+    println!("closest approach to the person: {closest:.2} m");
+    assert!(
+        closest >= scenario.robot.radius + person.radius,
+        "{closest:.2} m"
+    );
+}
+
+#[test]
 fn the_same_scenario_and_seed_give_the_same_run() {
     // Invariant: two runs of the paper's room with one seed are identical: timeline, verdicts, obstacles and grid.
     let a = run("kakiuchi-room", CandidatePolicy::Nearest).0;

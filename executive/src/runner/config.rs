@@ -71,6 +71,9 @@ pub struct GridSetup {
     /// would take for something appearing. Default 22°: the SR-4000's upper edge (half of its 43.6°
     /// vertical field) is then at or above the horizon.
     pub max_tilt: f64,
+    /// An obstacle counts as having moved lately when the grid saw one of its cells (or one next to
+    /// them) Moving in a look or a walk within this many seconds (s). Default 30.
+    pub mover_memory: f64,
 }
 
 impl Default for GridSetup {
@@ -85,6 +88,7 @@ impl Default for GridSetup {
             watch_tilt: 20f64.to_radians(),
             passive_share: 0.3,
             max_tilt: 22f64.to_radians(),
+            mover_memory: 30.0,
         }
     }
 }

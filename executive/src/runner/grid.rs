@@ -124,7 +124,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(_) => return,
         };
         match new_grid(&self.config.grid, start, self.config.goal) {
-            Ok(grid) => self.world.grid = Some(grid),
+            Ok(grid) => {
+                self.world.last_motion = vec![f64::NAN; grid.class_codes().len()];
+                self.world.grid = Some(grid);
+            }
             Err(e) => {
                 let stamp = self.robot.now();
                 self.observer.note(stamp, LogLevel::Warning, &e);
@@ -133,8 +136,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Folds one captured frame into the grid, unless the camera looked down too steeply (see
-    /// [`GridSetup::max_tilt`]); a frame the grid cannot take is noted, not fatal.
-    pub(crate) fn sense(&mut self, cloud: &ColourCloud) {
+    /// [`GridSetup::max_tilt`]); a frame the grid cannot take is noted, not fatal. With `motion`, the
+    /// cells it leaves Moving are remembered as moved lately (not for the robot's own pushes).
+    pub(crate) fn sense(&mut self, cloud: &ColourCloud, motion: bool) {
         let Some(grid) = self.world.grid.as_mut() else {
             return;
         };
@@ -145,6 +149,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
         let result = RangeFrame::from_cloud(cloud, &self.config.grid.reduction)
             .and_then(|frame| grid.update(&frame, cloud.stamp()));
+        if result.is_ok() && motion {
+            let moving = CellClass::Moving as u8;
+            for (stamp, &code) in self.world.last_motion.iter_mut().zip(grid.class_codes()) {
+                if code == moving {
+                    *stamp = cloud.stamp();
+                }
+            }
+        }
         if let Err(e) = result {
             self.observer.note(
                 cloud.stamp(),
@@ -253,6 +265,51 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 &format!("{id}'s push was not written into the grid: {e}"),
             );
         }
+    }
+
+    /// Whether the grid saw `prism`'s cells, or their neighbours, Moving within
+    /// [`GridSetup::mover_memory`] of now (in a look or a walk).
+    pub(crate) fn moved_lately(&self, prism: &Prism) -> bool {
+        let Some(grid) = self.world.grid.as_ref() else {
+            return false;
+        };
+        let since = self.robot.now() - self.config.grid.mover_memory;
+        let geometry = grid.geometry();
+        let r = geometry.resolution();
+        let Some((lo, hi)) = prism.footprint.iter().fold(None, |acc, p| match acc {
+            None => Some((*p, *p)),
+            Some((lo, hi)) => Some((p.inf(&lo), p.sup(&hi))),
+        }) else {
+            return false;
+        };
+        // The footprint's box grown by a cell, clamped into the grid.
+        let clamp = |p: Point2<f64>| {
+            let o = geometry.origin();
+            let far = Point2::new(
+                o.x + (geometry.width() as f64 - 0.5) * r,
+                o.y + (geometry.height() as f64 - 0.5) * r,
+            );
+            geometry.cell_of(p.sup(&o).inf(&far))
+        };
+        let grow = nalgebra::Vector2::repeat(r);
+        let (Some(a), Some(b)) = (clamp(lo - grow), clamp(hi + grow)) else {
+            return false;
+        };
+        // A cell is near when its centre, or the centre of a neighbour, lies in the footprint.
+        let near = |c: Point2<f64>| {
+            [-r, 0.0, r].iter().any(|&dx| {
+                [-r, 0.0, r]
+                    .iter()
+                    .any(|&dy| prism.contains_xy(&Point2::new(c.x + dx, c.y + dy)))
+            })
+        };
+        (a.y..=b.y).any(|y| {
+            (a.x..=b.x).any(|x| {
+                let i = y as usize * geometry.width() + x as usize;
+                self.world.last_motion.get(i).is_some_and(|&t| t >= since)
+                    && near(geometry.centre(nudge_perception::grid::CellIndex::new(x, y)))
+            })
+        })
     }
 
     /// Whether passive evidence alone says `prism` is movable (it was seen moving and came to rest).

@@ -38,7 +38,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.wait(|r| r.head_status())?;
             let cloud = self.robot.capture()?;
             self.observer.cloud(&cloud);
-            self.sense(&cloud);
+            self.sense(&cloud, true);
             self.world.views.push(cloud);
         }
         self.publish_grid();

@@ -161,7 +161,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 next_frame += self.config.grid.watch_period;
                 let cloud = self.robot.capture()?;
                 self.observer.cloud(&cloud);
-                self.sense(&cloud);
+                self.sense(&cloud, true);
                 self.publish_grid();
                 if let Some(reason) = self.replan_reason() {
                     return Ok(Watched::Replan(reason));

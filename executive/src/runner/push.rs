@@ -334,7 +334,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.wait(|r| r.head_status())?;
         let cloud = self.robot.capture()?;
         self.observer.cloud(&cloud);
-        self.sense(&cloud);
+        self.sense(&cloud, false);
         Ok(crop(
             &cloud.to_map(),
             prism,

@@ -75,19 +75,30 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 ordered
             }
         };
-        Event::CandidatesRanked(
-            ordered
-                .into_iter()
-                .map(|id| Candidate {
+        let mut ranked: Vec<Candidate> = ordered
+            .into_iter()
+            .map(|id| {
+                let prism = self.world.prisms.iter().find(|p| p.id == id);
+                Candidate {
                     id,
-                    passively_movable: self
-                        .world
-                        .prisms
-                        .iter()
-                        .find(|p| p.id == id)
-                        .is_some_and(|p| self.passively_movable(p)),
-                })
-                .collect(),
-        )
+                    passively_movable: prism.is_some_and(|p| self.passively_movable(p)),
+                    moved_lately: prism.is_some_and(|p| self.moved_lately(p)),
+                }
+            })
+            .collect();
+        // Excluded obstacles that moved lately go last: the machine will not push them, but when
+        // nothing else is left it waits for them to walk on rather than give up.
+        ranked.extend(
+            self.world
+                .prisms
+                .iter()
+                .filter(|p| exclude.contains(&p.id) && self.moved_lately(p))
+                .map(|p| Candidate {
+                    id: p.id,
+                    passively_movable: false,
+                    moved_lately: true,
+                }),
+        );
+        Event::CandidatesRanked(ranked)
     }
 }

@@ -32,6 +32,9 @@ pub(crate) struct WorldModel {
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
     /// Obstacles a push test found static: they stay where they were measured (see [`Self::remember`]).
     pub settled: BTreeSet<ObjectId>,
+    /// Per grid cell, the robot-clock stamp of the last look or walk frame that left it Moving (NaN:
+    /// never). Frames of the robot's own pushes do not count: that motion is its own doing.
+    pub last_motion: Vec<f64>,
 }
 
 /// Clearances tried when planning, as fractions of the configured one, largest first: where the robot
