@@ -12,7 +12,7 @@ use crate::command::Command;
 use crate::config::ExecutiveConfig;
 use crate::event::{Candidate, Event};
 use crate::explain::{Explanation, TestRecord};
-use crate::push_test::{Finding, PushEvidence, PushIntent, Verdict, classify};
+use crate::push_test::{Ambiguity, Finding, PushEvidence, PushIntent, Verdict, classify};
 use crate::state::{AbortReason, Approach, Purpose, State};
 
 /// What the executive has learnt so far in a run.
@@ -26,8 +26,10 @@ pub struct Knowledge {
     pub replans: u32,
     /// Clearing pushes finished per object.
     pub clears: BTreeMap<ObjectId, u32>,
-    /// Looks taken while waiting for an object only passive evidence calls movable, per object.
+    /// Looks taken while waiting for an object that may move by itself, per object.
     pub waits: BTreeMap<ObjectId, u32>,
+    /// Looks taken because a push test's hand met nothing where the object was seen, per object.
+    pub misses: BTreeMap<ObjectId, u32>,
 }
 
 /// Every edge of the machine, for timelines and coverage.
@@ -80,6 +82,10 @@ pub enum Edge {
     FoundMovable,
     /// PushTest → PushTest: ambiguous, retest once.
     Retest,
+    /// PushTest → LookAround: the hand swept where the object was seen and met nothing (the smear of
+    /// something that moved during the look, or a misplaced obstacle): look again, once per object,
+    /// rather than push at empty space.
+    NothingThere,
     /// PushTest → SelectCandidate: ambiguous twice, taken as static.
     AmbiguousTwice,
     /// ClearPath → LookAround: the object moved as planned.
@@ -108,7 +114,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 34] = [
+    pub const ALL: [Edge; 35] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -131,6 +137,7 @@ impl Edge {
         Edge::FoundStatic,
         Edge::FoundMovable,
         Edge::Retest,
+        Edge::NothingThere,
         Edge::AmbiguousTwice,
         Edge::Cleared,
         Edge::Jammed,
@@ -561,6 +568,17 @@ fn conclude_push_test(
             Edge::FoundStatic,
         ),
         Finding::Movable => verdict_step(k, Verdict::Movable, Edge::FoundMovable),
+        Finding::Ambiguous(Ambiguity::NoContact)
+            if attempt < 2 && k.misses.get(&target).copied().unwrap_or(0) == 0 =>
+        {
+            k.misses.insert(target, 1);
+            step(
+                State::LookAround,
+                k,
+                vec![Command::LookAround],
+                Edge::NothingThere,
+            )
+        }
         Finding::Ambiguous(_) if attempt < 2 => {
             start_push_test(target, intent, attempt + 1, k, config, Edge::Retest)
         }

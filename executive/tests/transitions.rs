@@ -282,6 +282,18 @@ cases! {
         assert_eq!(s.knowledge.push_tests, 2);
         s.edge
     }
+    a_hand_that_meets_nothing_looks_again_once => {
+        // Invariant: a first test whose hand met nothing sends the robot to look again (once per object) instead of retesting at empty space; after that look a miss is retested as before.
+        let mut missed = evidence(false, 0.0, 0.0);
+        missed.contact = false;
+        let k = Knowledge { push_tests: 1, ..Knowledge::default() };
+        let s = run(push_test(CHAIR, 1), &k, Event::PushTestDone(missed.clone()));
+        assert_eq!((s.state.clone(), s.commands.clone()), (State::LookAround, vec![Command::LookAround]));
+        assert_eq!(s.knowledge.misses.get(&CHAIR), Some(&1));
+        let again = run(push_test(CHAIR, 1), &s.knowledge, Event::PushTestDone(missed));
+        assert_eq!(again.state, push_test(CHAIR, 2));
+        s.edge
+    }
     an_ambiguous_retest_is_static_and_says_so => {
         // Invariant: a second ambiguous test ends static with after_ambiguity = true.
         let s = run(push_test(CHAIR, 2), &Knowledge { push_tests: 2, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.20, 0.05)));
