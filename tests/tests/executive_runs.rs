@@ -203,10 +203,10 @@ impl Observer for Track {
     }
 }
 
-#[test]
-fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
-    // Invariant: when a person stops on the path being walked, the grid's replanning flag stops the walk, the robot looks again and reaches the goal around them, never closer than the two radii and never blocked.
-    let scenario = nudge_tests::scenario("person-crossing").expect("scenario loads");
+/// Runs a scenario with a person (its first actor), asserting the robot never came closer to them than
+/// the two radii; returns the report and its edges.
+fn person_run(name: &str) -> (RunReport, Vec<Edge>) {
+    let scenario = nudge_tests::scenario(name).expect("scenario loads");
     let (report, _, track) = nudge_sim::run::run(
         &scenario,
         scenario.seed,
@@ -217,8 +217,27 @@ fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
     for t in &report.timeline {
         println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
     }
+    let person = &scenario.actors[0];
+    let plan = Plan::new(person).expect("valid actor");
+    let closest = track
+        .0
+        .iter()
+        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
+        .fold(f64::INFINITY, f64::min);
+    println!("closest approach to the person: {closest:.2} m");
+    assert!(
+        closest >= scenario.robot.radius + person.radius,
+        "{closest:.2} m"
+    );
+    let edges = report.timeline.iter().map(|t| t.edge).collect();
+    (report, edges)
+}
+
+#[test]
+fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
+    // Invariant: when a person stops on the path being walked, the grid's replanning flag stops the walk, the robot looks again and reaches the goal around them, never closer than the two radii and never blocked.
+    let (report, edges) = person_run("person-crossing");
     assert_eq!(report.outcome, State::Goal);
-    let edges: Vec<Edge> = report.timeline.iter().map(|t| t.edge).collect();
     assert!(
         edges.contains(&Edge::PathInvalidated),
         "the grid flagged the path"
@@ -227,50 +246,15 @@ fn a_person_stepping_onto_the_path_makes_the_robot_replan_around_them() {
         !edges.contains(&Edge::WalkBlocked),
         "the walk never ran into the person"
     );
-    let person = &scenario.actors[0];
-    let plan = Plan::new(person).expect("valid actor");
-    let closest = track
-        .0
-        .iter()
-        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
-        .fold(f64::INFINITY, f64::min);
-    println!("closest approach to the person: {closest:.2} m");
-    assert!(
-        closest >= scenario.robot.radius + person.radius,
-        "{closest:.2} m"
-    );
 }
 
 #[test]
 fn a_person_standing_in_the_only_doorway_is_waited_for_not_given_up_on() {
     // Invariant: when the only way is blocked by a person the grid saw walk in, the robot looks again instead of ending in NoPathToGoal, pushes nothing, never comes closer than the two radii, and goes through once the person has walked on.
-    let scenario = nudge_tests::scenario("person-in-doorway").expect("scenario loads");
-    let (report, _, track) = nudge_sim::run::run(
-        &scenario,
-        scenario.seed,
-        CandidatePolicy::Nearest,
-        Track::default(),
-    )
-    .expect("world builds");
-    for t in &report.timeline {
-        println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
-    }
+    let (report, edges) = person_run("person-in-doorway");
     assert_eq!(report.outcome, State::Goal);
     assert_eq!(report.knowledge.push_tests, 0);
-    let edges: Vec<Edge> = report.timeline.iter().map(|t| t.edge).collect();
     assert!(edges.contains(&Edge::WaitForMover), "the robot waited");
-    let person = &scenario.actors[0];
-    let plan = Plan::new(person).expect("valid actor");
-    let closest = track
-        .0
-        .iter()
-        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
-        .fold(f64::INFINITY, f64::min);
-    println!("closest approach to the person: {closest:.2} m");
-    assert!(
-        closest >= scenario.robot.radius + person.radius,
-        "{closest:.2} m"
-    );
 }
 
 #[test]
