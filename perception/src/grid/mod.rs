@@ -81,6 +81,7 @@ mod raster;
 pub mod rules;
 mod traversal;
 mod update;
+mod visible;
 mod watch;
 
 use std::collections::HashMap;

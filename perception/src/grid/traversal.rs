@@ -14,6 +14,7 @@
 use nalgebra::Point2;
 
 use super::geometry::{CellIndex, GridGeometry};
+use super::layers::Crossing;
 
 /// One visited cell and the segment parameter (0 at the start, 1 at the end) where the segment leaves it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,6 +120,110 @@ impl Traversal {
     }
 }
 
+/// Where along a beam (segment parameter, 0..1) its cells change kind, by their exit parameter:
+/// up to `seen` not seen at all, up to `far` crossed far before the return, up to `free` crossed free,
+/// beyond that crossed near the return.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cuts {
+    pub seen: f64,
+    pub free: f64,
+    pub far: f64,
+}
+
+impl Cuts {
+    #[inline]
+    pub(crate) fn kind(&self, t_exit: f64) -> Option<Crossing> {
+        if t_exit <= self.seen {
+            None
+        } else if t_exit <= self.far {
+            Some(Crossing::Far)
+        } else if t_exit <= self.free {
+            Some(Crossing::Free)
+        } else {
+            Some(Crossing::Near)
+        }
+    }
+
+    /// The smallest cut at or after `t` (infinite if none): [`Self::kind`] is the same for every
+    /// exit parameter from `t` up to it.
+    #[inline]
+    fn next(&self, t: f64) -> f64 {
+        [self.seen, self.far, self.free]
+            .into_iter()
+            .filter(|&c| c >= t)
+            .fold(f64::INFINITY, |a, c| if c < a { c } else { a })
+    }
+}
+
+impl Traversal {
+    /// Walks the same cells as the iterator, stopping before `stop` if it comes, and calls
+    /// `cell(i, kind)` with the linear index and [`Cuts::kind`] of each seen one (cells outside the
+    /// grid end the walk). The kind is monotone along the ray, so it is only re-evaluated once the
+    /// exit parameter passes the next cut: one comparison a step.
+    #[inline]
+    pub(crate) fn for_each_cell(
+        mut self,
+        geom: &GridGeometry,
+        stop: Option<CellIndex>,
+        cuts: &Cuts,
+        mut cell: impl FnMut(usize, Crossing),
+    ) {
+        let (w, h) = (geom.width() as i64, geom.height() as i64);
+        let inside = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h;
+        let stop = stop.map_or(-1, |c| i64::from(c.y) * w + i64::from(c.x));
+        let end = self.end_y * w + self.end_x;
+        let t_end = self.t_end;
+        let (mut kind, mut cut) = (None, f64::NEG_INFINITY);
+        while self.remaining > 0 && inside(self.x, self.y) {
+            let i = self.y * w + self.x;
+            if i == stop {
+                return;
+            }
+            let at_end = i == end;
+            let t_exit = if at_end {
+                t_end.max(0.0)
+            } else {
+                let (a, b) = (self.t_max_x, self.t_max_y);
+                let ab = if a < b { a } else { b };
+                if ab < t_end { ab } else { t_end }
+            };
+            if t_exit > cut {
+                kind = cuts.kind(t_exit);
+                cut = cuts.next(t_exit);
+            }
+            if let Some(k) = kind {
+                cell(i as usize, k);
+            }
+            if at_end {
+                return;
+            }
+            self.remaining -= 1;
+            self.step();
+        }
+    }
+
+    /// One Amanatides–Woo step to the next cell.
+    #[inline]
+    fn step(&mut self) {
+        let (a, b) = (self.t_max_x, self.t_max_y);
+        // Segment parameters live in [0, 1], so an absolute tolerance decides corner crossings.
+        if a < b - CORNER_EPS {
+            self.x += self.step_x;
+            self.t_max_x += self.t_delta_x;
+        } else if b < a - CORNER_EPS {
+            self.y += self.step_y;
+            self.t_max_y += self.t_delta_y;
+        } else {
+            // Through a corner: one diagonal step covers two boundaries.
+            self.x += self.step_x;
+            self.t_max_x += self.t_delta_x;
+            self.y += self.step_y;
+            self.t_max_y += self.t_delta_y;
+            self.remaining = self.remaining.saturating_sub(1);
+        }
+    }
+}
+
 /// Liang–Barsky clip of `a + t·d`, t ∈ [0,1], to the box [0,w]×[0,h]; `None` when nothing is inside.
 fn clip(ax: f64, ay: f64, dx: f64, dy: f64, w: f64, h: f64) -> Option<(f64, f64)> {
     let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
@@ -156,23 +261,11 @@ impl Iterator for Traversal {
             });
         }
         self.remaining -= 1;
+        // Compare-and-select rather than `f64::min`, whose NaN handling costs: nothing here is NaN.
         let (a, b) = (self.t_max_x, self.t_max_y);
-        let t_exit = a.min(b).min(self.t_end);
-        // Segment parameters live in [0, 1], so an absolute tolerance decides corner crossings.
-        if a < b - CORNER_EPS {
-            self.x += self.step_x;
-            self.t_max_x += self.t_delta_x;
-        } else if b < a - CORNER_EPS {
-            self.y += self.step_y;
-            self.t_max_y += self.t_delta_y;
-        } else {
-            // Through a corner: one diagonal step covers two boundaries.
-            self.x += self.step_x;
-            self.t_max_x += self.t_delta_x;
-            self.y += self.step_y;
-            self.t_max_y += self.t_delta_y;
-            self.remaining = self.remaining.saturating_sub(1);
-        }
+        let ab = if a < b { a } else { b };
+        let t_exit = if ab < self.t_end { ab } else { self.t_end };
+        self.step();
         Some(RayCell { cell, t_exit })
     }
 }
@@ -287,6 +380,69 @@ mod tests {
                     "{ax} {ay} {bx} {by}: {v:?}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn the_cell_walk_gives_exactly_the_iterators_cells_with_their_kinds() {
+        // Invariant: for_each_cell reports the iterator's in-grid cells up to (not including) the stop
+        // cell, each once, with the kind of its own exit parameter.
+        let geom =
+            GridGeometry::with_cells(nalgebra::Point2::new(0.0, 0.0), 40, 30, 1.0).expect("valid");
+        let mut s = 0x9e37_79b9_u64;
+        let mut r = |m: f64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % 100_000) as f64 / 100_000.0 * m
+        };
+        for n in 0..20_000 {
+            let a = if n % 11 == 0 {
+                Point2::new(r(40.0).round() * 0.5, r(30.0).round() * 0.5)
+            } else {
+                Point2::new(r(50.0) - 5.0, r(40.0) - 5.0)
+            };
+            // Some rays axis-aligned, from or to cell corners (also on the grid's border), most
+            // anywhere.
+            let b = match n % 5 {
+                0 => Point2::new(a.x + r(20.0) - 10.0, a.y),
+                1 => Point2::new((a.x + 7.0).floor(), (a.y + 7.0).floor()),
+                2 if n % 7 == 0 => Point2::new((r(60.0) - 10.0).round(), (r(50.0) - 10.0).round()),
+                3 => Point2::new(
+                    a.x + (r(20.0) - 10.0).round(),
+                    a.y + (r(20.0) - 10.0).round(),
+                ),
+                _ => Point2::new(r(50.0) - 5.0, r(40.0) - 5.0),
+            };
+            let cuts = Cuts {
+                seen: r(0.4) - 0.1,
+                free: r(1.2),
+                far: r(1.2),
+            };
+            let all: Vec<RayCell> = Traversal::new(&geom, a, b).collect();
+            let stop = (n % 3 == 0)
+                .then(|| all.get(all.len() * 2 / 3).map(|c| c.cell))
+                .flatten();
+            let mut expected: Vec<(usize, Option<Crossing>)> = all
+                .iter()
+                .take_while(|c| Some(c.cell) != stop)
+                // Float drift can carry the iterator one step out of the grid at the very end.
+                .filter(|c| c.cell.x < 40 && c.cell.y < 30)
+                .map(|c| {
+                    (
+                        c.cell.y as usize * 40 + c.cell.x as usize,
+                        cuts.kind(c.t_exit),
+                    )
+                })
+                .filter(|(_, k)| k.is_some())
+                .collect();
+            expected.sort_by_key(|e| e.0);
+            let mut got = Vec::new();
+            Traversal::new(&geom, a, b).for_each_cell(&geom, stop, &cuts, |i, k| {
+                got.push((i, Some(k)));
+            });
+            got.sort_by_key(|e| e.0);
+            assert_eq!(got, expected, "{a:?} -> {b:?}, {cuts:?}, stop {stop:?}");
         }
     }
 }

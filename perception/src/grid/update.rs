@@ -5,7 +5,7 @@ use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{BeamEnd, RangeFrame};
 use super::layers::{Crossing, NO_OBJECT};
 use super::rules::{self, HitDecision, free_space, movable, moving};
-use super::traversal::Traversal;
+use super::traversal::{Cuts, Traversal};
 use super::{GridError, ObstacleGrid};
 
 const FREE: u8 = CellClass::Free as u8;
@@ -22,13 +22,6 @@ pub(crate) struct Scratch {
     new_moving: Vec<u32>,
     /// Cells something left this frame (see `stamp_vacated`).
     vacated: Vec<u32>,
-    /// This frame's visible area as a bitmap (bit `i % 64` of word `i / 64` is cell `i`): [crossed,
-    /// crossed at least the free gap before the return, crossed well before it]. The walk only sets bits here, in an array small enough to stay
-    /// in cache (an eighth of a byte per cell where the cells' histories take twelve); each crossed
-    /// cell's history is then updated once, in row-major order. All zero between frames.
-    seen: Vec<[u64; 3]>,
-    /// The first and last row this frame's walks visited (rows bound the bitmap words to fold).
-    rows: Option<(usize, usize)>,
 }
 
 impl ObstacleGrid {
@@ -70,16 +63,13 @@ impl ObstacleGrid {
         let step = mean_beam_step(frame);
         let (margin, gap) = (self.cfg.clear_margin, self.cfg.free_gap);
         let tail = self.cfg.clear_tail;
-        let width = self.geom.width();
-        let n_words = self.geom.len().div_ceil(64);
-        if s.seen.len() != n_words {
-            s.seen = vec![[0; 3]; n_words];
-        }
-        s.rows = None;
+        let geom = &self.geom;
+        let width = geom.width();
         let l = &mut self.layers;
+        l.visible.begin(f);
         for beam in frame.beams() {
             let hit_cell = match beam.kind {
-                BeamEnd::Hit => self.geom.cell_of(beam.end),
+                BeamEnd::Hit => geom.cell_of(beam.end),
                 BeamEnd::Clear => None,
             };
             // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The end of a
@@ -113,38 +103,38 @@ impl ObstacleGrid {
             } else {
                 0.0
             };
-            let seen = s.seen.as_mut_slice();
-            let mut rows = None;
-            for rc in Traversal::new(&self.geom, sensor, end) {
-                if Some(rc.cell) == hit_cell {
-                    break;
+            let cuts = Cuts {
+                seen: t_seen,
+                free: t_free,
+                far: t_far,
+            };
+            if let Some(mut bits) = l.visible.writer(f) {
+                let walk = Traversal::new(geom, sensor, end);
+                let first_row = walk.clone().next().map(|c| c.cell.y as usize);
+                let mut last = None;
+                // The word being filled, kept in a register until the walk leaves it: consecutive
+                // cells of a row share a word, and or-ing each into memory would chain every step
+                // on the store before it.
+                let (mut word, mut acc) = ((usize::MAX, Crossing::Near), 0u64);
+                walk.for_each_cell(geom, hit_cell, &cuts, |i, how| {
+                    if (i >> 6, how) != word {
+                        bits.or_word(word.0, word.1, acc);
+                        (word, acc) = ((i >> 6, how), 0);
+                    }
+                    acc |= 1 << (i & 63);
+                    last = Some(i);
+                });
+                bits.or_word(word.0, word.1, acc);
+                if let (Some(a), Some(b)) = (first_row, last.map(|i| i / width)) {
+                    bits.cover(a.min(b) * width, (a.max(b) + 1) * width);
                 }
-                if rc.t_exit <= t_seen {
-                    continue;
-                }
-                let i = rc.cell.y as usize * width + rc.cell.x as usize;
-                if let Some(word) = seen.get_mut(i >> 6) {
-                    let bit = 1u64 << (i & 63);
-                    word[0] |= bit;
-                    word[1] |= if rc.t_exit <= t_free { bit } else { 0 };
-                    word[2] |= if rc.t_exit <= t_far { bit } else { 0 };
-                }
-                rows = Some(rows.map_or((rc.cell.y, rc.cell.y), |(a, _)| (a, rc.cell.y)));
-            }
-            if let Some((a, b)) = rows {
-                let (a, b) = (a as usize, b as usize);
-                let rows = (a.min(b), a.max(b));
-                s.rows = Some(
-                    s.rows
-                        .map_or(rows, |(lo, hi)| (lo.min(rows.0), hi.max(rows.1))),
-                );
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
             if let Some(c) = hit_cell {
                 let i = c.y as usize * width + c.x as usize;
                 if l.record_hit(i, f) {
                     s.hits.push(i as u32);
-                    let r = moving::quiet_radius(len, step, self.geom.resolution());
+                    let r = moving::quiet_radius(len, step, geom.resolution());
                     s.quiet.push(r as u8);
                 }
             }
@@ -152,40 +142,21 @@ impl ObstacleGrid {
         self.record_crossings(s);
     }
 
-    /// Folds the frame's visible-area bitmaps into the cells' histories (once per crossed cell, in
-    /// row-major order, however many rays crossed it) and lists the crossed cells that are not free
-    /// for classification; leaves the bitmaps zeroed.
+    /// Lists the cells crossed this frame that are not free, for classification, in row-major order
+    /// (free cells seen free again need nothing: their crossings are already recorded as bits).
     fn record_crossings(&mut self, s: &mut Scratch) {
-        let f = self.frame;
         s.crossed.clear();
-        let Some((lo, hi)) = s.rows else {
-            return;
-        };
-        let (width, n) = (self.geom.width(), self.geom.len());
-        let words = lo * width / 64..((hi + 1) * width).div_ceil(64).min(s.seen.len());
         let l = &mut self.layers;
-        for k in words {
-            let [mut bits, free, far] = std::mem::take(&mut s.seen[k]);
+        let class = l.class.as_slice();
+        l.visible.for_each_crossed_word(self.frame, |k, bits| {
+            let base = k * 64;
+            let mut bits = bits & not_free(class, base);
             while bits != 0 {
-                let b = bits.trailing_zeros();
+                s.crossed
+                    .push((base + bits.trailing_zeros() as usize) as u32);
                 bits &= bits - 1;
-                let i = k * 64 + b as usize;
-                if i >= n {
-                    break;
-                }
-                // Free cells seen free again need no classification: only list the others.
-                let how = if far >> b & 1 != 0 {
-                    Crossing::Far
-                } else if free >> b & 1 != 0 {
-                    Crossing::Free
-                } else {
-                    Crossing::Near
-                };
-                if l.record_crossing(i, f, how) && l.class[i] != FREE {
-                    s.crossed.push(i as u32);
-                }
             }
-        }
+        });
     }
 
     /// Stamps the neighbourhood (`moving_step`) of last frame's moving cells.
@@ -367,6 +338,32 @@ impl ObstacleGrid {
     }
 }
 
+/// Bit j set when cell `base + j` is in the grid and not free.
+#[inline]
+fn not_free(class: &[u8], base: usize) -> u64 {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+    let Some(cells) = class.get(base..base + 64) else {
+        // The grid's last, partial word.
+        return class
+            .iter()
+            .skip(base)
+            .enumerate()
+            .fold(0, |m, (j, &c)| m | u64::from(c != FREE) << j);
+    };
+    // Eight cells at a time: a byte of `v ^ FREE·ONES` is non-zero exactly when its cell is not free;
+    // its top bit after the carry-free test below, gathered by one multiplication.
+    let mut m = 0u64;
+    for (q, chunk) in cells.chunks_exact(8).enumerate() {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(chunk);
+        let x = u64::from_le_bytes(b) ^ (ONES * u64::from(FREE));
+        let high = (((x & LOW7) + LOW7) | x) & !LOW7;
+        m |= ((high >> 7).wrapping_mul(0x0102_0408_1020_4080) >> 56) << (8 * q);
+    }
+    m
+}
+
 /// The mean angle (rad) between consecutive beams of `frame`, which come in bearing order from a
 /// scanner or a camera's columns; 0 for fewer than two beams. Missing columns only widen it, which
 /// widens the moving rule's quiet neighbourhood: the safe side.
@@ -425,5 +422,30 @@ mod tests {
             Some(1.0),
             "a near crossing still renews the cell's age"
         );
+    }
+
+    #[test]
+    fn the_not_free_mask_matches_the_classes() {
+        // Invariant: bit j of not_free(class, base) is set iff cell base + j exists and is not Free.
+        let mut s = 0x1234_5678_u64;
+        let class: Vec<u8> = (0..1000)
+            .map(|_| {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                // Mostly free, as in a seen room; every code, and bytes with the top bit set.
+                match s % 10 {
+                    0..=5 => FREE,
+                    6 => (s >> 8) as u8,
+                    n => (n - 7) as u8 * 2,
+                }
+            })
+            .collect();
+        for base in (0..1000).step_by(64) {
+            let want = (0..64).fold(0u64, |m, j| {
+                m | u64::from(class.get(base + j).is_some_and(|&c| c != FREE)) << j
+            });
+            assert_eq!(not_free(&class, base), want, "word at {base}");
+        }
     }
 }

@@ -1,0 +1,291 @@
+//! The visible areas V_t of the last few frames, as bit-planes: which cells rays crossed, and how far
+//! before their returns.
+//!
+//! Each frame owns one slot of a ring of [`SLOTS`] frames. A slot holds three bit-planes over the
+//! whole grid (bit `i % 64` of word `i / 64` is cell `i`), one per [`Crossing`] kind: the cells whose
+//! best crossing this frame was far, free or near. A ray sets a run of bits per grid row it crosses,
+//! so a walk writes one word per row instead of a history per cell, and cells seen free again cost
+//! nothing beyond their bits: the ring (four slots of 180 kB for 800 × 600 cells) stays in cache
+//! where per-cell histories would not. The rules read at most frames t, t−1 and t−2.
+//!
+//! A cell's last crossing older than the ring is kept per cell: when a slot is reused, the cells it
+//! saw that no newer slot saw get its frame number (`older`), so [`VisibleArea::last_crossed`] is
+//! exact however long ago.
+
+use super::layers::Crossing;
+
+/// Frames kept: t and the three before (the rules read t, t−1 and t−2).
+pub(crate) const SLOTS: usize = 4;
+
+/// Plane index of each crossing kind within a word group, and of their union (filled in by
+/// [`VisibleArea::for_each_crossed_word`] at the end of the frame, read when the slot is reused).
+const FAR: usize = 0;
+const FREE: usize = 1;
+const NEAR: usize = 2;
+const ANY: usize = 3;
+
+/// One word of each plane.
+type Group = [u64; 4];
+
+/// The last [`SLOTS`] frames' crossings of every cell of a grid.
+#[derive(Clone, Debug)]
+pub(crate) struct VisibleArea {
+    /// Cells in the grid.
+    n: usize,
+    /// Words per plane (`n / 64` rounded up).
+    words: usize,
+    /// Slot `s`'s words at `s * words .. (s + 1) * words`, each `[far, free, near, any]`.
+    planes: Vec<Group>,
+    /// The frame each slot holds (0: none).
+    frame: [u32; SLOTS],
+    /// The words each slot may have set, `lo..hi` (empty when `lo >= hi`).
+    span: [(usize, usize); SLOTS],
+    /// Per cell: the latest frame it was crossed in that has left the ring (0: none).
+    older: Vec<u32>,
+}
+
+impl VisibleArea {
+    /// An empty ring for `n` cells.
+    pub fn new(n: usize) -> Self {
+        let words = n.div_ceil(64);
+        Self {
+            n,
+            words,
+            planes: vec![[0; 4]; words * SLOTS],
+            frame: [0; SLOTS],
+            span: [(0, 0); SLOTS],
+            older: vec![0; n],
+        }
+    }
+
+    /// Makes frame `f` the ring's current frame, reusing the slot of frame `f − SLOTS` (or whatever
+    /// older frame it holds). Returns false, and does nothing, when the slot already holds a newer
+    /// frame (frames must not go back) or `f` is 0.
+    pub fn begin(&mut self, f: u32) -> bool {
+        let s = f as usize % SLOTS;
+        let held = self.frame[s];
+        if f == 0 || held > f {
+            return false;
+        }
+        if held == f {
+            return true;
+        }
+        if held != 0 {
+            self.retire(s);
+        }
+        self.frame[s] = f;
+        self.span[s] = (0, 0);
+        true
+    }
+
+    /// Folds slot `s`'s cells that no newer slot saw into `older`, and clears the slot.
+    fn retire(&mut self, s: usize) {
+        let held = self.frame[s];
+        let mut newer = [usize::MAX; SLOTS];
+        for (n, t) in (0..SLOTS)
+            .filter(|&t| t != s && self.frame[t] > held)
+            .enumerate()
+        {
+            newer[n] = t * self.words;
+        }
+        let (lo, hi) = self.span[s];
+        let base = s * self.words;
+        for k in lo..hi {
+            let w = std::mem::take(&mut self.planes[base + k]);
+            let mut gone = w[FAR] | w[FREE] | w[NEAR];
+            for &t in newer.iter().filter(|&&t| t != usize::MAX) {
+                gone &= !self.planes[t + k][ANY];
+            }
+            while gone != 0 {
+                let i = k * 64 + gone.trailing_zeros() as usize;
+                gone &= gone - 1;
+                if let Some(o) = self.older.get_mut(i) {
+                    *o = (*o).max(held);
+                }
+            }
+        }
+    }
+
+    /// The writer of frame `f`'s slot, if `f` is the current frame (after [`Self::begin`]`(f)`).
+    pub fn writer(&mut self, f: u32) -> Option<SlotWriter<'_>> {
+        let s = f as usize % SLOTS;
+        if f == 0 || self.frame[s] != f {
+            return None;
+        }
+        let words = &mut self.planes[s * self.words..(s + 1) * self.words];
+        Some(SlotWriter {
+            words,
+            span: &mut self.span[s],
+        })
+    }
+
+    /// Records one crossing of cell `i` in frame `f` (frames must not go back).
+    #[cfg(test)]
+    pub fn record(&mut self, i: usize, f: u32, how: Crossing) {
+        if self.begin(f)
+            && let Some(mut w) = self.writer(f)
+        {
+            w.or_word(i / 64, how, 1 << (i % 64));
+            w.cover(i, i + 1);
+        }
+    }
+
+    /// The `[far, free, near, any]` words holding cell `i`'s bits for frame `g`, if the ring holds `g`.
+    #[inline]
+    fn word(&self, i: usize, g: u32) -> Option<Group> {
+        let s = g as usize % SLOTS;
+        if g == 0 || self.frame[s] != g || i >= self.n {
+            return None;
+        }
+        Some(self.planes[s * self.words + i / 64])
+    }
+
+    /// History byte of cell `i` as seen from frame `f` (bit k: frame f − k), from `pick` applied to
+    /// the frame's `[far, free, near]` words.
+    #[inline]
+    fn history(&self, i: usize, f: u32, pick: impl Fn(Group) -> u64) -> u8 {
+        let mut bits = 0u8;
+        for k in 0..SLOTS as u32 {
+            let Some(g) = f.checked_sub(k) else { break };
+            if let Some(w) = self.word(i, g) {
+                bits |= ((pick(w) >> (i % 64) & 1) as u8) << k;
+            }
+        }
+        bits
+    }
+
+    /// Frames in which `i` was crossed at least the free gap before the return (seen free), as seen
+    /// from frame `f`: bit k = frame f − k, k < [`SLOTS`].
+    #[inline]
+    pub fn free(&self, i: usize, f: u32) -> u8 {
+        self.history(i, f, |w| w[FAR] | w[FREE])
+    }
+
+    /// Frames in which `i` was crossed at least the clear margin before the return, as seen from `f`.
+    #[inline]
+    pub fn far(&self, i: usize, f: u32) -> u8 {
+        self.history(i, f, |w| w[FAR])
+    }
+
+    /// True when a ray crossed `i` in frame `f`, however near its return.
+    #[inline]
+    pub fn crossed_in(&self, i: usize, f: u32) -> bool {
+        self.word(i, f)
+            .is_some_and(|w| (w[FAR] | w[FREE] | w[NEAR]) >> (i % 64) & 1 != 0)
+    }
+
+    /// The latest frame in which a ray crossed `i` (0: never).
+    pub fn last_crossed(&self, i: usize) -> u32 {
+        let ring = (0..SLOTS)
+            .filter(|&s| self.frame[s] != 0 && self.crossed_in(i, self.frame[s]))
+            .map(|s| self.frame[s])
+            .max()
+            .unwrap_or(0);
+        ring.max(self.older.get(i).copied().unwrap_or(0))
+    }
+
+    /// Calls `f(k, crossed)` for every word `k` frame `f` may have set, with the bits of the cells
+    /// crossed in it (however near their returns), in increasing `k`; call it once the frame's walks
+    /// are done (it records the union for [`Self::begin`]).
+    pub fn for_each_crossed_word(&mut self, f: u32, mut each: impl FnMut(usize, u64)) {
+        let s = f as usize % SLOTS;
+        if f == 0 || self.frame[s] != f {
+            return;
+        }
+        let (lo, hi) = self.span[s];
+        let base = s * self.words;
+        for (k, w) in self.planes[base + lo..base + hi.max(lo)]
+            .iter_mut()
+            .enumerate()
+        {
+            w[ANY] = w[FAR] | w[FREE] | w[NEAR];
+            if w[ANY] != 0 {
+                each(lo + k, w[ANY]);
+            }
+        }
+    }
+}
+
+/// Sets one frame's bits.
+pub(crate) struct SlotWriter<'a> {
+    words: &'a mut [Group],
+    span: &'a mut (usize, usize),
+}
+
+impl SlotWriter<'_> {
+    /// Marks the cells of word `k` set in `bits` as crossed `how` (an out-of-grid word is ignored);
+    /// the caller reports the words it marks with [`Self::cover`].
+    #[inline]
+    pub fn or_word(&mut self, k: usize, how: Crossing, bits: u64) {
+        if let Some(w) = self.words.get_mut(k) {
+            match how {
+                Crossing::Far => w[FAR] |= bits,
+                Crossing::Free => w[FREE] |= bits,
+                Crossing::Near => w[NEAR] |= bits,
+            }
+        }
+    }
+
+    /// Widens the words the frame may have set to those of cells `lo..hi`.
+    #[inline]
+    pub fn cover(&mut self, lo: usize, hi: usize) {
+        let (k0, k1) = (lo >> 6, hi.div_ceil(64).min(self.words.len()));
+        if k0 >= k1 {
+            return;
+        }
+        let span = &mut *self.span;
+        *span = if span.0 >= span.1 {
+            (k0, k1)
+        } else {
+            (span.0.min(k0), span.1.max(k1))
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn words_set_their_bits_and_the_kinds_nest() {
+        // Invariant: a word marks exactly its cells; far counts as free, and every kind as crossed.
+        let mut v = VisibleArea::new(300);
+        assert!(v.begin(1));
+        let mut w = v.writer(1).expect("current frame");
+        w.or_word(0, Crossing::Far, !0 << 60);
+        w.or_word(1, Crossing::Far, !0);
+        w.or_word(2, Crossing::Far, 0b111);
+        w.or_word(2, Crossing::Near, 0b1000);
+        w.cover(60, 132);
+        for i in 0..300 {
+            let inside = (60..=130).contains(&i);
+            assert_eq!(v.far(i, 1), u8::from(inside), "{i}");
+            assert_eq!(v.free(i, 1), u8::from(inside), "{i}");
+            assert_eq!(v.crossed_in(i, 1), inside || i == 131, "{i}");
+        }
+        let mut words = Vec::new();
+        v.for_each_crossed_word(1, |k, bits| words.push((k, bits.count_ones())));
+        assert_eq!(words, vec![(0, 4), (1, 64), (2, 4)]);
+        let mut w = v.writer(1).expect("current frame");
+        w.or_word(99, Crossing::Far, 1);
+        w.cover(6000, 7000);
+        assert_eq!(v.last_crossed(299), 0, "out-of-grid words are ignored");
+    }
+
+    #[test]
+    fn the_last_crossing_survives_the_ring() {
+        // Invariant: last_crossed is the latest crossing frame, also after its slot was reused.
+        let mut v = VisibleArea::new(100);
+        v.record(7, 1, Crossing::Free);
+        v.record(8, 1, Crossing::Near);
+        v.record(8, 2, Crossing::Far);
+        for f in 3..=9 {
+            assert!(v.begin(f));
+        }
+        assert_eq!((v.last_crossed(7), v.last_crossed(8)), (1, 2));
+        assert_eq!(v.last_crossed(9), 0);
+        v.record(7, 10, Crossing::Near);
+        assert_eq!(v.last_crossed(7), 10);
+        assert!(!v.begin(6), "frames do not go back");
+    }
+}
