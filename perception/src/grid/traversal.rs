@@ -156,28 +156,125 @@ impl Cuts {
 }
 
 impl Traversal {
-    /// Walks the same cells as the iterator, stopping before `stop` if it comes, and calls
-    /// `cell(i, kind)` with the linear index and [`Cuts::kind`] of each seen one (cells outside the
-    /// grid end the walk). The kind is monotone along the ray, so it is only re-evaluated once the
-    /// exit parameter passes the next cut: one comparison a step.
-    #[inline]
-    pub(crate) fn for_each_cell(
+    /// Walks the same cells as the iterator, stopping before `stop` if it comes, and reports the seen
+    /// ones a grid word at a time: `word(k, kind, bits)` says that the cells `64·k + j` for the bits j
+    /// set in `bits` (linear indices) have that [`Cuts::kind`]. Cells outside the grid end the walk.
+    /// Returns the rows of the first and last cell walked, if any.
+    ///
+    /// Consecutive cells of a row share a word: the bits gather in a register and are reported when
+    /// the walk leaves the word (or the kind changes), so a step writes no memory. The kind is
+    /// monotone along the ray, so it is only re-evaluated once the exit parameter passes the next
+    /// cut. In the common case — the stop cell, if any, is the end cell, and the end cell lies
+    /// inside the grid's border — a step checks nothing else: the step budget alone says when the
+    /// walk is at its last cell (each step towards the end cell spends one, a corner two), and the
+    /// walk cannot leave the grid.
+    pub(crate) fn for_each_word(
+        self,
+        geom: &GridGeometry,
+        stop: Option<CellIndex>,
+        cuts: &Cuts,
+        mut word: impl FnMut(usize, Crossing, u64),
+    ) -> Option<(usize, usize)> {
+        let (w, h) = (geom.width() as i64, geom.height() as i64);
+        let (ex, ey) = (self.end_x, self.end_y);
+        let interior = |x: i64, y: i64, m: i64| x >= m && y >= m && x < w - m && y < h - m;
+        let stop_at_end = stop.is_none_or(|c| (i64::from(c.x), i64::from(c.y)) == (ex, ey));
+        if self.remaining == 0
+            || !stop_at_end
+            || !interior(ex, ey, 2)
+            || !interior(self.x, self.y, 0)
+        {
+            return self.for_each_word_checked(geom, stop, cuts, word);
+        }
+        let (dix, diy) = (self.step_x, self.step_y * w);
+        let (dtx, dty, t_end) = (self.t_delta_x, self.t_delta_y, self.t_end);
+        let mut i = self.y * w + self.x;
+        let first_row = self.y;
+        let mut remaining = self.remaining;
+        // The walk's segment parameters in fixed point (2⁻⁵² units, saturated far beyond 1): the
+        // step is then chosen without a branch — an unpredictable branch a step costs more than
+        // the whole step — by a short integer dependency chain instead of a floating-point one.
+        let (mut a, mut b) = (fixed(self.t_max_x), fixed(self.t_max_y));
+        let (da, db) = (fixed(dtx), fixed(dty));
+        let eps = fixed(CORNER_EPS);
+        let unfixed = |v: i64| v as f64 / ONE;
+        let exit = |a: i64, b: i64| {
+            let ab = unfixed(a.min(b));
+            if ab < t_end { ab } else { t_end }
+        };
+        // The kind holds until the exit parameter passes `cut`; min(a, b, t_end) > cut is tested
+        // as a > cut && b > cut, with cuts at or beyond t_end never passed.
+        let fold = |c: f64| if c < t_end { fixed(c) } else { i64::MAX };
+        let t0 = exit(a, b);
+        let (mut kind, mut cut) = (cuts.kind(t0), fold(cuts.next(t0)));
+        // The open word, its kind and bits.
+        let (mut k_open, mut kind_open, mut acc) = (i >> 6, kind, 0u64);
+        while remaining > 1 {
+            if a > cut && b > cut {
+                let t = exit(a, b);
+                (kind, cut) = (cuts.kind(t), fold(cuts.next(t)));
+            }
+            if i >> 6 != k_open || kind != kind_open {
+                if let Some(k) = kind_open {
+                    word(k_open as usize, k, acc);
+                }
+                (k_open, kind_open, acc) = (i >> 6, kind, 0);
+            }
+            acc |= 1 << (i & 63);
+            // x unless b < a − ε, y unless a < b − ε: both through a corner.
+            let d = a - b;
+            let (mx, my) = (-i64::from(d <= eps), -i64::from(d >= -eps));
+            i += (dix & mx) + (diy & my);
+            a += da & mx;
+            b += db & my;
+            remaining -= 1 + u64::from(mx & my != 0);
+        }
+        // The last cell: the end cell (not walked if it is the stop cell), or where the budget ran
+        // out if floating point stepped past it.
+        let end = ey * w + ex;
+        if remaining == 1 && !(i == end && stop.is_some()) {
+            let t = if i == end { t_end.max(0.0) } else { exit(a, b) };
+            let k = cuts.kind(t);
+            if i >> 6 != k_open || k != kind_open {
+                if let Some(k) = kind_open {
+                    word(k_open as usize, k, acc);
+                }
+                (k_open, kind_open, acc) = (i >> 6, k, 0);
+            }
+            acc |= 1 << (i & 63);
+        }
+        if let Some(k) = kind_open {
+            word(k_open as usize, k, acc);
+        }
+        // (A superset when the walk ended a cell before `i`.)
+        let last_row = i / w;
+        Some((
+            first_row.min(last_row) as usize,
+            first_row.max(last_row) as usize,
+        ))
+    }
+
+    /// [`Self::for_each_word`] for any walk: every step checks the stop cell, the end cell and the
+    /// grid's bounds.
+    fn for_each_word_checked(
         mut self,
         geom: &GridGeometry,
         stop: Option<CellIndex>,
         cuts: &Cuts,
-        mut cell: impl FnMut(usize, Crossing),
-    ) {
+        mut word: impl FnMut(usize, Crossing, u64),
+    ) -> Option<(usize, usize)> {
         let (w, h) = (geom.width() as i64, geom.height() as i64);
-        let inside = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h;
         let stop = stop.map_or(-1, |c| i64::from(c.y) * w + i64::from(c.x));
         let end = self.end_y * w + self.end_x;
         let t_end = self.t_end;
         let (mut kind, mut cut) = (None, f64::NEG_INFINITY);
-        while self.remaining > 0 && inside(self.x, self.y) {
+        let (first, mut last) = (self.y, None);
+        // The open word, its kind and bits.
+        let (mut k_open, mut kind_open, mut acc) = (-1_i64, Crossing::Near, 0u64);
+        while self.remaining > 0 && (0..w).contains(&self.x) && (0..h).contains(&self.y) {
             let i = self.y * w + self.x;
             if i == stop {
-                return;
+                break;
             }
             let at_end = i == end;
             let t_exit = if at_end {
@@ -192,14 +289,25 @@ impl Traversal {
                 cut = cuts.next(t_exit);
             }
             if let Some(k) = kind {
-                cell(i as usize, k);
+                if i >> 6 != k_open || k != kind_open {
+                    if acc != 0 {
+                        word(k_open as usize, kind_open, acc);
+                    }
+                    (k_open, kind_open, acc) = (i >> 6, k, 0);
+                }
+                acc |= 1 << (i & 63);
             }
+            last = Some(self.y);
             if at_end {
-                return;
+                break;
             }
             self.remaining -= 1;
             self.step();
         }
+        if acc != 0 {
+            word(k_open as usize, kind_open, acc);
+        }
+        last.map(|l| (first.min(l) as usize, first.max(l) as usize))
     }
 
     /// One Amanatides–Woo step to the next cell.
@@ -222,6 +330,16 @@ impl Traversal {
             self.remaining = self.remaining.saturating_sub(1);
         }
     }
+}
+
+/// One in the walk's fixed point.
+const ONE: f64 = (1_u64 << 52) as f64;
+
+/// A non-negative segment parameter in fixed point, saturated at 2⁶⁰ (far beyond the segment's 1:
+/// such a boundary is never crossed, and sums of two stay in range).
+fn fixed(t: f64) -> i64 {
+    const MAX: f64 = (1_u64 << 60) as f64;
+    if t < MAX { (t * ONE) as i64 } else { 1 << 60 }
 }
 
 /// Liang–Barsky clip of `a + t·d`, t ∈ [0,1], to the box [0,w]×[0,h]; `None` when nothing is inside.
@@ -385,8 +503,8 @@ mod tests {
 
     #[test]
     fn the_cell_walk_gives_exactly_the_iterators_cells_with_their_kinds() {
-        // Invariant: for_each_cell reports the iterator's in-grid cells up to (not including) the stop
-        // cell, each once, with the kind of its own exit parameter.
+        // Invariant: for_each_word reports the iterator's in-grid cells up to (not including) the stop
+        // cell, each once, with the kind of its own exit parameter, within the rows it returns.
         let geom =
             GridGeometry::with_cells(nalgebra::Point2::new(0.0, 0.0), 40, 30, 1.0).expect("valid");
         let mut s = 0x9e37_79b9_u64;
@@ -438,9 +556,17 @@ mod tests {
                 .collect();
             expected.sort_by_key(|e| e.0);
             let mut got = Vec::new();
-            Traversal::new(&geom, a, b).for_each_cell(&geom, stop, &cuts, |i, k| {
-                got.push((i, Some(k)));
-            });
+            let rows =
+                Traversal::new(&geom, a, b).for_each_word(&geom, stop, &cuts, |k, kind, bits| {
+                    got.extend(
+                        (0..64)
+                            .filter(|j| bits >> j & 1 != 0)
+                            .map(|j| (k * 64 + j, Some(kind))),
+                    );
+                });
+            if let Some((lo, hi)) = rows {
+                assert!(got.iter().all(|(i, _)| (lo..=hi).contains(&(i / 40))));
+            }
             got.sort_by_key(|e| e.0);
             assert_eq!(got, expected, "{a:?} -> {b:?}, {cuts:?}, stop {stop:?}");
         }

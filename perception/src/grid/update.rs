@@ -3,7 +3,7 @@
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{BeamEnd, RangeFrame};
-use super::layers::{Crossing, NO_OBJECT};
+use super::layers::NO_OBJECT;
 use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::{Cuts, Traversal};
 use super::{GridError, ObstacleGrid};
@@ -110,23 +110,10 @@ impl ObstacleGrid {
             };
             if let Some(mut bits) = l.visible.writer(f) {
                 let walk = Traversal::new(geom, sensor, end);
-                let first_row = walk.clone().next().map(|c| c.cell.y as usize);
-                let mut last = None;
-                // The word being filled, kept in a register until the walk leaves it: consecutive
-                // cells of a row share a word, and or-ing each into memory would chain every step
-                // on the store before it.
-                let (mut word, mut acc) = ((usize::MAX, Crossing::Near), 0u64);
-                walk.for_each_cell(geom, hit_cell, &cuts, |i, how| {
-                    if (i >> 6, how) != word {
-                        bits.or_word(word.0, word.1, acc);
-                        (word, acc) = ((i >> 6, how), 0);
-                    }
-                    acc |= 1 << (i & 63);
-                    last = Some(i);
-                });
-                bits.or_word(word.0, word.1, acc);
-                if let (Some(a), Some(b)) = (first_row, last.map(|i| i / width)) {
-                    bits.cover(a.min(b) * width, (a.max(b) + 1) * width);
+                let rows =
+                    walk.for_each_word(geom, hit_cell, &cuts, |k, how, b| bits.or_word(k, how, b));
+                if let Some((a, b)) = rows {
+                    bits.cover(a * width, (b + 1) * width);
                 }
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
