@@ -168,6 +168,20 @@ pub(crate) enum Crossing {
     Far,
 }
 
+impl Crossing {
+    /// The kind as one bit of a cell's level byte (far 1, free 2, near 4): a frame's walks or
+    /// these into a byte per cell, and [`super::visible::VisibleArea::fold_levels`] turns the
+    /// bytes into bit-planes.
+    #[inline]
+    pub(crate) fn level(self) -> u8 {
+        match self {
+            Crossing::Far => 1,
+            Crossing::Free => 2,
+            Crossing::Near => 4,
+        }
+    }
+}
+
 /// History byte `bits` stamped at frame `last`, read at frame `f`.
 #[inline]
 pub(crate) fn at(bits: u8, last: u32, f: u32) -> u8 {

@@ -144,6 +144,12 @@ impl Cuts {
         }
     }
 
+    /// [`Self::kind`] as a level bit ([`Crossing::level`]; 0 for an unseen cell).
+    #[inline]
+    pub(crate) fn level(&self, t_exit: f64) -> u8 {
+        self.kind(t_exit).map_or(0, Crossing::level)
+    }
+
     /// The smallest cut at or after `t` (infinite if none): [`Self::kind`] is the same for every
     /// exit parameter from `t` up to it.
     #[inline]
@@ -156,24 +162,23 @@ impl Cuts {
 }
 
 impl Traversal {
-    /// Walks the same cells as the iterator, stopping before `stop` if it comes, and reports the seen
-    /// ones a grid word at a time: `word(k, kind, bits)` says that the cells `64·k + j` for the bits j
-    /// set in `bits` (linear indices) have that [`Cuts::kind`]. Cells outside the grid end the walk.
-    /// Returns the rows of the first and last cell walked, if any.
+    /// Walks the same cells as the iterator, stopping before `stop` if it comes, and calls
+    /// `cell(i, level)` for each with its linear index and [`Cuts::level`] (0 for an unseen cell).
+    /// Cells outside the grid end the walk. Returns the rows of the first and last cell walked, if
+    /// any (a superset when floating point ends the walk early).
     ///
-    /// Consecutive cells of a row share a word: the bits gather in a register and are reported when
-    /// the walk leaves the word (or the kind changes), so a step writes no memory. The kind is
-    /// monotone along the ray, so it is only re-evaluated once the exit parameter passes the next
-    /// cut. In the common case — the stop cell, if any, is the end cell, and the end cell lies
-    /// inside the grid's border — a step checks nothing else: the step budget alone says when the
-    /// walk is at its last cell (each step towards the end cell spends one, a corner two), and the
-    /// walk cannot leave the grid.
-    pub(crate) fn for_each_word(
+    /// The kind is monotone along the ray, so it is only re-evaluated once the exit parameter passes
+    /// the next cut. In the common case — the stop cell, if any, is the end cell, and the end cell
+    /// lies inside the grid's border — a step checks nothing else: the step budget alone says when
+    /// the walk is at its last cell (each step towards the end cell spends one, a corner two), and
+    /// the walk cannot leave the grid. The step itself is the iterator's, with the segment
+    /// parameters in fixed point (2⁻⁵² units, saturated far beyond 1): integer comparisons.
+    pub(crate) fn for_each_cell(
         self,
         geom: &GridGeometry,
         stop: Option<CellIndex>,
         cuts: &Cuts,
-        mut word: impl FnMut(usize, Crossing, u64),
+        mut cell: impl FnMut(usize, u8),
     ) -> Option<(usize, usize)> {
         let (w, h) = (geom.width() as i64, geom.height() as i64);
         let (ex, ey) = (self.end_x, self.end_y);
@@ -184,69 +189,53 @@ impl Traversal {
             || !interior(ex, ey, 2)
             || !interior(self.x, self.y, 0)
         {
-            return self.for_each_word_checked(geom, stop, cuts, word);
+            return self.for_each_cell_checked(geom, stop, cuts, cell);
         }
         let (dix, diy) = (self.step_x, self.step_y * w);
-        let (dtx, dty, t_end) = (self.t_delta_x, self.t_delta_y, self.t_end);
+        let t_end = self.t_end;
         let mut i = self.y * w + self.x;
         let first_row = self.y;
         let mut remaining = self.remaining;
-        // The walk's segment parameters in fixed point (2⁻⁵² units, saturated far beyond 1): the
-        // step is then chosen without a branch — an unpredictable branch a step costs more than
-        // the whole step — by a short integer dependency chain instead of a floating-point one.
         let (mut a, mut b) = (fixed(self.t_max_x), fixed(self.t_max_y));
-        let (da, db) = (fixed(dtx), fixed(dty));
+        let (da, db) = (fixed(self.t_delta_x), fixed(self.t_delta_y));
         let eps = fixed(CORNER_EPS);
-        let unfixed = |v: i64| v as f64 / ONE;
         let exit = |a: i64, b: i64| {
-            let ab = unfixed(a.min(b));
+            let ab = a.min(b) as f64 / ONE;
             if ab < t_end { ab } else { t_end }
         };
-        // The kind holds until the exit parameter passes `cut`; min(a, b, t_end) > cut is tested
+        // The level holds until the exit parameter passes `cut`; min(a, b, t_end) > cut is tested
         // as a > cut && b > cut, with cuts at or beyond t_end never passed.
         let fold = |c: f64| if c < t_end { fixed(c) } else { i64::MAX };
         let t0 = exit(a, b);
-        let (mut kind, mut cut) = (cuts.kind(t0), fold(cuts.next(t0)));
-        // The open word, its kind and bits.
-        let (mut k_open, mut kind_open, mut acc) = (i >> 6, kind, 0u64);
+        let (mut level, mut cut) = (cuts.level(t0), fold(cuts.next(t0)));
         while remaining > 1 {
             if a > cut && b > cut {
                 let t = exit(a, b);
-                (kind, cut) = (cuts.kind(t), fold(cuts.next(t)));
+                (level, cut) = (cuts.level(t), fold(cuts.next(t)));
             }
-            if i >> 6 != k_open || kind != kind_open {
-                if let Some(k) = kind_open {
-                    word(k_open as usize, k, acc);
-                }
-                (k_open, kind_open, acc) = (i >> 6, kind, 0);
+            cell(i as usize, level);
+            remaining -= 1;
+            if a < b - eps {
+                i += dix;
+                a += da;
+            } else if b < a - eps {
+                i += diy;
+                b += db;
+            } else {
+                // Through a corner: one diagonal step covers two boundaries.
+                i += dix + diy;
+                a += da;
+                b += db;
+                remaining -= 1;
             }
-            acc |= 1 << (i & 63);
-            // x unless b < a − ε, y unless a < b − ε: both through a corner.
-            let d = a - b;
-            let (mx, my) = (-i64::from(d <= eps), -i64::from(d >= -eps));
-            i += (dix & mx) + (diy & my);
-            a += da & mx;
-            b += db & my;
-            remaining -= 1 + u64::from(mx & my != 0);
         }
         // The last cell: the end cell (not walked if it is the stop cell), or where the budget ran
         // out if floating point stepped past it.
         let end = ey * w + ex;
         if remaining == 1 && !(i == end && stop.is_some()) {
             let t = if i == end { t_end.max(0.0) } else { exit(a, b) };
-            let k = cuts.kind(t);
-            if i >> 6 != k_open || k != kind_open {
-                if let Some(k) = kind_open {
-                    word(k_open as usize, k, acc);
-                }
-                (k_open, kind_open, acc) = (i >> 6, k, 0);
-            }
-            acc |= 1 << (i & 63);
+            cell(i as usize, cuts.level(t));
         }
-        if let Some(k) = kind_open {
-            word(k_open as usize, k, acc);
-        }
-        // (A superset when the walk ended a cell before `i`.)
         let last_row = i / w;
         Some((
             first_row.min(last_row) as usize,
@@ -254,23 +243,20 @@ impl Traversal {
         ))
     }
 
-    /// [`Self::for_each_word`] for any walk: every step checks the stop cell, the end cell and the
+    /// [`Self::for_each_cell`] for any walk: every step checks the stop cell, the end cell and the
     /// grid's bounds.
-    fn for_each_word_checked(
+    fn for_each_cell_checked(
         mut self,
         geom: &GridGeometry,
         stop: Option<CellIndex>,
         cuts: &Cuts,
-        mut word: impl FnMut(usize, Crossing, u64),
+        mut cell: impl FnMut(usize, u8),
     ) -> Option<(usize, usize)> {
         let (w, h) = (geom.width() as i64, geom.height() as i64);
         let stop = stop.map_or(-1, |c| i64::from(c.y) * w + i64::from(c.x));
         let end = self.end_y * w + self.end_x;
         let t_end = self.t_end;
-        let (mut kind, mut cut) = (None, f64::NEG_INFINITY);
         let (first, mut last) = (self.y, None);
-        // The open word, its kind and bits.
-        let (mut k_open, mut kind_open, mut acc) = (-1_i64, Crossing::Near, 0u64);
         while self.remaining > 0 && (0..w).contains(&self.x) && (0..h).contains(&self.y) {
             let i = self.y * w + self.x;
             if i == stop {
@@ -284,28 +270,13 @@ impl Traversal {
                 let ab = if a < b { a } else { b };
                 if ab < t_end { ab } else { t_end }
             };
-            if t_exit > cut {
-                kind = cuts.kind(t_exit);
-                cut = cuts.next(t_exit);
-            }
-            if let Some(k) = kind {
-                if i >> 6 != k_open || k != kind_open {
-                    if acc != 0 {
-                        word(k_open as usize, kind_open, acc);
-                    }
-                    (k_open, kind_open, acc) = (i >> 6, k, 0);
-                }
-                acc |= 1 << (i & 63);
-            }
+            cell(i as usize, cuts.level(t_exit));
             last = Some(self.y);
             if at_end {
                 break;
             }
             self.remaining -= 1;
             self.step();
-        }
-        if acc != 0 {
-            word(k_open as usize, kind_open, acc);
         }
         last.map(|l| (first.min(l) as usize, first.max(l) as usize))
     }
@@ -503,7 +474,7 @@ mod tests {
 
     #[test]
     fn the_cell_walk_gives_exactly_the_iterators_cells_with_their_kinds() {
-        // Invariant: for_each_word reports the iterator's in-grid cells up to (not including) the stop
+        // Invariant: for_each_cell reports the iterator's in-grid cells up to (not including) the stop
         // cell, each once, with the kind of its own exit parameter, within the rows it returns.
         let geom =
             GridGeometry::with_cells(nalgebra::Point2::new(0.0, 0.0), 40, 30, 1.0).expect("valid");
@@ -556,14 +527,12 @@ mod tests {
                 .collect();
             expected.sort_by_key(|e| e.0);
             let mut got = Vec::new();
-            let rows =
-                Traversal::new(&geom, a, b).for_each_word(&geom, stop, &cuts, |k, kind, bits| {
-                    got.extend(
-                        (0..64)
-                            .filter(|j| bits >> j & 1 != 0)
-                            .map(|j| (k * 64 + j, Some(kind))),
-                    );
-                });
+            let rows = Traversal::new(&geom, a, b).for_each_cell(&geom, stop, &cuts, |i, level| {
+                if level != 0 {
+                    let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
+                    got.push((i, kinds.into_iter().find(|k| k.level() == level)));
+                }
+            });
             if let Some((lo, hi)) = rows {
                 assert!(got.iter().all(|(i, _)| (lo..=hi).contains(&(i / 40))));
             }

@@ -3,6 +3,8 @@
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{BeamEnd, RangeFrame};
+#[cfg(doc)]
+use super::layers::Crossing;
 use super::layers::NO_OBJECT;
 use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::{Cuts, Traversal};
@@ -22,6 +24,10 @@ pub(crate) struct Scratch {
     new_moving: Vec<u32>,
     /// Cells something left this frame (see `stamp_vacated`).
     vacated: Vec<u32>,
+    /// The frame's crossings as they are walked: per cell, the or of the [`Crossing::level`]s of
+    /// the rays that crossed it. A byte a cell, so that a step's write never waits on the one
+    /// before (bits of one word would); folded into bit-planes, and zeroed, once all rays are in.
+    level: Vec<u8>,
 }
 
 impl ObstacleGrid {
@@ -67,6 +73,11 @@ impl ObstacleGrid {
         let width = geom.width();
         let l = &mut self.layers;
         l.visible.begin(f);
+        if s.level.len() != geom.len() {
+            s.level = vec![0; geom.len()];
+        }
+        // The rows the walks visited.
+        let mut rows = None;
         for beam in frame.beams() {
             let hit_cell = match beam.kind {
                 BeamEnd::Hit => geom.cell_of(beam.end),
@@ -108,13 +119,14 @@ impl ObstacleGrid {
                 free: t_free,
                 far: t_far,
             };
-            if let Some(mut bits) = l.visible.writer(f) {
-                let walk = Traversal::new(geom, sensor, end);
-                let rows =
-                    walk.for_each_word(geom, hit_cell, &cuts, |k, how, b| bits.or_word(k, how, b));
-                if let Some((a, b)) = rows {
-                    bits.cover(a * width, (b + 1) * width);
+            let walk = Traversal::new(geom, sensor, end);
+            let level = s.level.as_mut_slice();
+            if let Some((a, b)) = walk.for_each_cell(geom, hit_cell, &cuts, |i, bit| {
+                if let Some(v) = level.get_mut(i) {
+                    *v |= bit;
                 }
+            }) {
+                rows = Some(rows.map_or((a, b), |(lo, hi): (usize, usize)| (lo.min(a), hi.max(b))));
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
             if let Some(c) = hit_cell {
@@ -125,6 +137,10 @@ impl ObstacleGrid {
                     s.quiet.push(r as u8);
                 }
             }
+        }
+        if let Some((a, b)) = rows {
+            l.visible
+                .fold_levels(f, &mut s.level, a * width..(b + 1) * width);
         }
         self.record_crossings(s);
     }

@@ -12,6 +12,7 @@
 //! saw that no newer slot saw get its frame number (`older`), so [`VisibleArea::last_crossed`] is
 //! exact however long ago.
 
+#[cfg(any(test, doc))]
 use super::layers::Crossing;
 
 /// Frames kept: t and the three before (the rules read t, t−1 and t−2).
@@ -184,6 +185,58 @@ impl VisibleArea {
         ring.max(self.older.get(i).copied().unwrap_or(0))
     }
 
+    /// Folds a frame's level bytes (one per cell, or-ed [`Crossing::level`]s; see
+    /// `Traversal::for_each_cell`) of the cells `cells` into frame `f`'s planes, and zeroes them.
+    /// Bytes outside `cells` are left alone; `level` is as long as the grid.
+    pub fn fold_levels(&mut self, f: u32, level: &mut [u8], cells: std::ops::Range<usize>) {
+        const ONES: u64 = 0x0101_0101_0101_0101;
+        // Gathers bit 0 of each of the eight bytes into one byte (byte j to bit j).
+        let gather = |v: u64| (v & ONES).wrapping_mul(0x0102_0408_1020_4080) >> 56;
+        let n = self.n;
+        let Some(mut out) = self.writer(f) else {
+            return;
+        };
+        let k0 = cells.start / 64;
+        let k1 = cells.end.div_ceil(64).min(out.words.len());
+        for k in k0..k1 {
+            let Some(bytes) = level.get_mut(k * 64..((k + 1) * 64).min(n)) else {
+                continue;
+            };
+            let bytes_len = bytes.len();
+            let mut planes = [0u64; 3];
+            let mut fold = |q: usize, v: u64| {
+                for (p, plane) in planes.iter_mut().enumerate() {
+                    *plane |= gather(v >> p) << (8 * q);
+                }
+            };
+            let mut chunks = bytes.chunks_exact_mut(8);
+            for (q, chunk) in chunks.by_ref().enumerate() {
+                let Ok(c) = <&mut [u8; 8]>::try_from(chunk) else {
+                    continue;
+                };
+                let v = u64::from_le_bytes(*c);
+                if v != 0 {
+                    *c = [0; 8];
+                    fold(q, v);
+                }
+            }
+            // The grid's last, partial word.
+            let tail = chunks.into_remainder();
+            if !tail.is_empty() {
+                let mut b = [0u8; 8];
+                b[..tail.len()].copy_from_slice(tail);
+                tail.fill(0);
+                fold(bytes_len / 8, u64::from_le_bytes(b));
+            }
+            if planes != [0; 3] {
+                for (p, plane) in planes.into_iter().enumerate() {
+                    out.words[k][p] |= plane;
+                }
+            }
+        }
+        out.cover(k0 * 64, k1 * 64);
+    }
+
     /// Calls `f(k, crossed)` for every word `k` frame `f` may have set, with the bits of the cells
     /// crossed in it (however near their returns), in increasing `k`; call it once the frame's walks
     /// are done (it records the union for [`Self::begin`]).
@@ -215,7 +268,7 @@ pub(crate) struct SlotWriter<'a> {
 impl SlotWriter<'_> {
     /// Marks the cells of word `k` set in `bits` as crossed `how` (an out-of-grid word is ignored);
     /// the caller reports the words it marks with [`Self::cover`].
-    #[inline]
+    #[cfg(test)]
     pub fn or_word(&mut self, k: usize, how: Crossing, bits: u64) {
         if let Some(w) = self.words.get_mut(k) {
             match how {
@@ -287,5 +340,44 @@ mod tests {
         v.record(7, 10, Crossing::Near);
         assert_eq!(v.last_crossed(7), 10);
         assert!(!v.begin(6), "frames do not go back");
+    }
+
+    #[test]
+    fn level_bytes_fold_into_the_planes_and_are_cleared() {
+        // Invariant: fold_levels gives each cell in range the kinds or-ed into its level byte (far
+        // also free, any also crossed), zeroes those bytes, and leaves cells out of range alone.
+        let n = 150; // two whole words and a partial one
+        let mut v = VisibleArea::new(n);
+        assert!(v.begin(3));
+        let mut level = vec![0u8; n];
+        let far = Crossing::Far.level();
+        let (free, near) = (Crossing::Free.level(), Crossing::Near.level());
+        for (i, b) in [
+            (0, far),
+            (7, near),
+            (8, free | near),
+            (63, far | near),
+            (64, free),
+        ] {
+            level[i] = b;
+        }
+        for (i, b) in [(100, near), (149, far), (20, far)] {
+            level[i] = b;
+        }
+        let mut before = level.clone();
+        v.fold_levels(3, &mut level, 0..n);
+        for (i, &b) in before.iter().enumerate() {
+            assert_eq!(v.far(i, 3), u8::from(b & far != 0), "{i}");
+            assert_eq!(v.free(i, 3), u8::from(b & (far | free) != 0), "{i}");
+            assert_eq!(v.crossed_in(i, 3), b != 0, "{i}");
+        }
+        assert!(level.iter().all(|&b| b == 0));
+        // Out of range: the bytes stay for a later fold.
+        level[5] = near;
+        level[140] = far;
+        before = level.clone();
+        v.fold_levels(3, &mut level, 64..128);
+        assert_eq!(level, before);
+        assert!(!v.crossed_in(5, 3) && v.far(140, 3) == 0);
     }
 }
