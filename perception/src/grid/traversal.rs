@@ -164,8 +164,9 @@ impl Cuts {
 impl Traversal {
     /// Walks the same cells as the iterator, stopping before `stop` if it comes, and calls
     /// `cell(i, level)` for each with its linear index and [`Cuts::level`] (0 for an unseen cell).
-    /// Cells outside the grid end the walk. Returns the rows of the first and last cell walked, if
-    /// any (a superset when floating point ends the walk early).
+    /// Cells outside the grid end the walk. Returns the linear indices of the first and last cell
+    /// walked, if any (the last may be one step further, still in the grid, when floating point
+    /// ends the walk early): the cells' columns and rows run monotonically between them.
     ///
     /// The kind is monotone along the ray, so it is only re-evaluated once the exit parameter passes
     /// the next cut. In the common case — the stop cell, if any, is the end cell, and the end cell
@@ -194,7 +195,7 @@ impl Traversal {
         let (dix, diy) = (self.step_x, self.step_y * w);
         let t_end = self.t_end;
         let mut i = self.y * w + self.x;
-        let first_row = self.y;
+        let first = i;
         let mut remaining = self.remaining;
         let (mut a, mut b) = (fixed(self.t_max_x), fixed(self.t_max_y));
         let (da, db) = (fixed(self.t_delta_x), fixed(self.t_delta_y));
@@ -236,11 +237,7 @@ impl Traversal {
             let t = if i == end { t_end.max(0.0) } else { exit(a, b) };
             cell(i as usize, cuts.level(t));
         }
-        let last_row = i / w;
-        Some((
-            first_row.min(last_row) as usize,
-            first_row.max(last_row) as usize,
-        ))
+        Some((first as usize, i as usize))
     }
 
     /// [`Self::for_each_cell`] for any walk: every step checks the stop cell, the end cell and the
@@ -256,7 +253,7 @@ impl Traversal {
         let stop = stop.map_or(-1, |c| i64::from(c.y) * w + i64::from(c.x));
         let end = self.end_y * w + self.end_x;
         let t_end = self.t_end;
-        let (first, mut last) = (self.y, None);
+        let (mut first, mut last) = (None, None);
         while self.remaining > 0 && (0..w).contains(&self.x) && (0..h).contains(&self.y) {
             let i = self.y * w + self.x;
             if i == stop {
@@ -271,14 +268,15 @@ impl Traversal {
                 if ab < t_end { ab } else { t_end }
             };
             cell(i as usize, cuts.level(t_exit));
-            last = Some(self.y);
+            first = first.or(Some(i as usize));
+            last = Some(i as usize);
             if at_end {
                 break;
             }
             self.remaining -= 1;
             self.step();
         }
-        last.map(|l| (first.min(l) as usize, first.max(l) as usize))
+        first.zip(last)
     }
 
     /// One Amanatides–Woo step to the next cell.
@@ -475,7 +473,7 @@ mod tests {
     #[test]
     fn the_cell_walk_gives_exactly_the_iterators_cells_with_their_kinds() {
         // Invariant: for_each_cell reports the iterator's in-grid cells up to (not including) the stop
-        // cell, each once, with the kind of its own exit parameter, within the rows it returns.
+        // cell, each once, with the kind of its own exit parameter, within the box of the cells it returns.
         let geom =
             GridGeometry::with_cells(nalgebra::Point2::new(0.0, 0.0), 40, 30, 1.0).expect("valid");
         let mut s = 0x9e37_79b9_u64;
@@ -533,8 +531,18 @@ mod tests {
                     got.push((i, kinds.into_iter().find(|k| k.level() == level)));
                 }
             });
-            if let Some((lo, hi)) = rows {
-                assert!(got.iter().all(|(i, _)| (lo..=hi).contains(&(i / 40))));
+            if let Some((first, last)) = rows {
+                let span = |f: fn(usize) -> usize| {
+                    let (a, b) = (f(first), f(last));
+                    a.min(b)..=a.max(b)
+                };
+                let (cols, rows) = (span(|i| i % 40), span(|i| i / 40));
+                assert!(
+                    got.iter()
+                        .all(|(i, _)| cols.contains(&(i % 40)) && rows.contains(&(i / 40)))
+                );
+            } else {
+                assert!(got.is_empty());
             }
             got.sort_by_key(|e| e.0);
             assert_eq!(got, expected, "{a:?} -> {b:?}, {cuts:?}, stop {stop:?}");

@@ -8,6 +8,7 @@ use super::layers::Crossing;
 use super::layers::NO_OBJECT;
 use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::{Cuts, Traversal};
+use super::visible::CellBox;
 use super::{GridError, ObstacleGrid};
 
 const FREE: u8 = CellClass::Free as u8;
@@ -76,8 +77,8 @@ impl ObstacleGrid {
         if s.level.len() != geom.len() {
             s.level = vec![0; geom.len()];
         }
-        // The rows the walks visited.
-        let mut rows = None;
+        // The cells the walks may have visited.
+        let mut walked = CellBox::EMPTY;
         for beam in frame.beams() {
             let hit_cell = match beam.kind {
                 BeamEnd::Hit => geom.cell_of(beam.end),
@@ -126,7 +127,7 @@ impl ObstacleGrid {
                     *v |= bit;
                 }
             }) {
-                rows = Some(rows.map_or((a, b), |(lo, hi): (usize, usize)| (lo.min(a), hi.max(b))));
+                walked = walked.union(CellBox::spanned(width, a, b));
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
             if let Some(c) = hit_cell {
@@ -138,10 +139,7 @@ impl ObstacleGrid {
                 }
             }
         }
-        if let Some((a, b)) = rows {
-            l.visible
-                .fold_levels(f, &mut s.level, a * width..(b + 1) * width);
-        }
+        l.visible.fold_levels(f, &mut s.level, walked);
         self.record_crossings(s);
     }
 

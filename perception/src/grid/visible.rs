@@ -39,8 +39,8 @@ pub(crate) struct VisibleArea {
     planes: Vec<Group>,
     /// The frame each slot holds (0: none).
     frame: [u32; SLOTS],
-    /// The words each slot may have set, `lo..hi` (empty when `lo >= hi`).
-    span: [(usize, usize); SLOTS],
+    /// The cells each slot may have set.
+    span: [CellBox; SLOTS],
     /// Per cell: the latest frame it was crossed in that has left the ring (0: none).
     older: Vec<u32>,
 }
@@ -54,7 +54,7 @@ impl VisibleArea {
             words,
             planes: vec![[0; 4]; words * SLOTS],
             frame: [0; SLOTS],
-            span: [(0, 0); SLOTS],
+            span: [CellBox::EMPTY; SLOTS],
             older: vec![0; n],
         }
     }
@@ -75,7 +75,7 @@ impl VisibleArea {
             self.retire(s);
         }
         self.frame[s] = f;
-        self.span[s] = (0, 0);
+        self.span[s] = CellBox::EMPTY;
         true
     }
 
@@ -89,11 +89,14 @@ impl VisibleArea {
         {
             newer[n] = t * self.words;
         }
-        let (lo, hi) = self.span[s];
         let base = s * self.words;
-        for k in lo..hi {
-            let w = std::mem::take(&mut self.planes[base + k]);
+        for k in self.span[s].words(self.words) {
+            let w = self.planes[base + k];
             let mut gone = w[FAR] | w[FREE] | w[NEAR];
+            if gone | w[ANY] == 0 {
+                continue;
+            }
+            self.planes[base + k] = [0; 4];
             for &t in newer.iter().filter(|&&t| t != usize::MAX) {
                 gone &= !self.planes[t + k][ANY];
             }
@@ -127,7 +130,7 @@ impl VisibleArea {
             && let Some(mut w) = self.writer(f)
         {
             w.or_word(i / 64, how, 1 << (i % 64));
-            w.cover(i, i + 1);
+            w.cover(CellBox::cell(i));
         }
     }
 
@@ -186,9 +189,10 @@ impl VisibleArea {
     }
 
     /// Folds a frame's level bytes (one per cell, or-ed [`Crossing::level`]s; see
-    /// `Traversal::for_each_cell`) of the cells `cells` into frame `f`'s planes, and zeroes them.
-    /// Bytes outside `cells` are left alone; `level` is as long as the grid.
-    pub fn fold_levels(&mut self, f: u32, level: &mut [u8], cells: std::ops::Range<usize>) {
+    /// `Traversal::for_each_cell`) of the cells in `cells` (and any others of their grid words)
+    /// into frame `f`'s planes, and zeroes them. Other bytes are left alone; `level` is as long as
+    /// the grid.
+    pub fn fold_levels(&mut self, f: u32, level: &mut [u8], cells: CellBox) {
         const ONES: u64 = 0x0101_0101_0101_0101;
         // Gathers bit 0 of each of the eight bytes into one byte (byte j to bit j).
         let gather = |v: u64| (v & ONES).wrapping_mul(0x0102_0408_1020_4080) >> 56;
@@ -196,9 +200,7 @@ impl VisibleArea {
         let Some(mut out) = self.writer(f) else {
             return;
         };
-        let k0 = cells.start / 64;
-        let k1 = cells.end.div_ceil(64).min(out.words.len());
-        for k in k0..k1 {
+        for k in cells.words(out.words.len()) {
             let Some(bytes) = level.get_mut(k * 64..((k + 1) * 64).min(n)) else {
                 continue;
             };
@@ -234,7 +236,7 @@ impl VisibleArea {
                 }
             }
         }
-        out.cover(k0 * 64, k1 * 64);
+        out.cover(cells);
     }
 
     /// Calls `f(k, crossed)` for every word `k` frame `f` may have set, with the bits of the cells
@@ -245,15 +247,12 @@ impl VisibleArea {
         if f == 0 || self.frame[s] != f {
             return;
         }
-        let (lo, hi) = self.span[s];
         let base = s * self.words;
-        for (k, w) in self.planes[base + lo..base + hi.max(lo)]
-            .iter_mut()
-            .enumerate()
-        {
+        for k in self.span[s].words(self.words) {
+            let w = &mut self.planes[base + k];
             w[ANY] = w[FAR] | w[FREE] | w[NEAR];
             if w[ANY] != 0 {
-                each(lo + k, w[ANY]);
+                each(k, w[ANY]);
             }
         }
     }
@@ -262,7 +261,7 @@ impl VisibleArea {
 /// Sets one frame's bits.
 pub(crate) struct SlotWriter<'a> {
     words: &'a mut [Group],
-    span: &'a mut (usize, usize),
+    span: &'a mut CellBox,
 }
 
 impl SlotWriter<'_> {
@@ -279,19 +278,89 @@ impl SlotWriter<'_> {
         }
     }
 
-    /// Widens the words the frame may have set to those of cells `lo..hi`.
+    /// Widens the cells the frame may have set by `cells`.
     #[inline]
-    pub fn cover(&mut self, lo: usize, hi: usize) {
-        let (k0, k1) = (lo >> 6, hi.div_ceil(64).min(self.words.len()));
-        if k0 >= k1 {
-            return;
+    pub fn cover(&mut self, cells: CellBox) {
+        *self.span = self.span.union(cells);
+    }
+}
+
+/// A box of cells, columns `x0..=x1` and rows `y0..=y1` of a grid `width` cells wide (empty when
+/// a range is).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct CellBox {
+    pub width: usize,
+    pub x0: usize,
+    pub x1: usize,
+    pub y0: usize,
+    pub y1: usize,
+}
+
+impl CellBox {
+    /// No cell.
+    pub const EMPTY: CellBox = CellBox {
+        width: 1,
+        x0: 1,
+        x1: 0,
+        y0: 1,
+        y1: 0,
+    };
+
+    /// The box spanned by two cells (linear indices) of a grid `width` cells wide.
+    pub fn spanned(width: usize, a: usize, b: usize) -> Self {
+        let width = width.max(1);
+        let ((ax, ay), (bx, by)) = ((a % width, a / width), (b % width, b / width));
+        CellBox {
+            width,
+            x0: ax.min(bx),
+            x1: ax.max(bx),
+            y0: ay.min(by),
+            y1: ay.max(by),
         }
-        let span = &mut *self.span;
-        *span = if span.0 >= span.1 {
-            (k0, k1)
+    }
+
+    /// The one cell `i` (of a grid of any width).
+    #[cfg(test)]
+    pub fn cell(i: usize) -> Self {
+        Self::spanned(1, i, i)
+    }
+
+    fn is_empty(&self) -> bool {
+        self.x0 > self.x1 || self.y0 > self.y1
+    }
+
+    /// The smallest box holding both; of grids of different widths, every cell up to the larger
+    /// one's last (as one column).
+    pub fn union(self, o: CellBox) -> CellBox {
+        if self.is_empty() {
+            o
+        } else if o.is_empty() {
+            self
+        } else if self.width == o.width {
+            CellBox {
+                width: self.width,
+                x0: self.x0.min(o.x0),
+                x1: self.x1.max(o.x1),
+                y0: self.y0.min(o.y0),
+                y1: self.y1.max(o.y1),
+            }
         } else {
-            (span.0.min(k0), span.1.max(k1))
-        };
+            let last = |b: &CellBox| b.y1 * b.width + b.x1;
+            Self::spanned(1, 0, last(&self).max(last(&o)))
+        }
+    }
+
+    /// The grid words (of `words`) holding the box's cells, each once, in increasing order.
+    fn words(&self, words: usize) -> impl Iterator<Item = usize> {
+        let b = *self;
+        let mut next = 0;
+        (b.y0..=b.y1).flat_map(move |y| {
+            let (k0, k1) = ((y * b.width + b.x0) / 64, (y * b.width + b.x1) / 64 + 1);
+            let from = k0.max(next);
+            let to = k1.min(words);
+            next = next.max(to);
+            from..to.max(from)
+        })
     }
 }
 
@@ -309,7 +378,7 @@ mod tests {
         w.or_word(1, Crossing::Far, !0);
         w.or_word(2, Crossing::Far, 0b111);
         w.or_word(2, Crossing::Near, 0b1000);
-        w.cover(60, 132);
+        w.cover(CellBox::spanned(300, 60, 131));
         for i in 0..300 {
             let inside = (60..=130).contains(&i);
             assert_eq!(v.far(i, 1), u8::from(inside), "{i}");
@@ -321,7 +390,7 @@ mod tests {
         assert_eq!(words, vec![(0, 4), (1, 64), (2, 4)]);
         let mut w = v.writer(1).expect("current frame");
         w.or_word(99, Crossing::Far, 1);
-        w.cover(6000, 7000);
+        w.cover(CellBox::spanned(300, 6000, 7000));
         assert_eq!(v.last_crossed(299), 0, "out-of-grid words are ignored");
     }
 
@@ -365,7 +434,7 @@ mod tests {
             level[i] = b;
         }
         let mut before = level.clone();
-        v.fold_levels(3, &mut level, 0..n);
+        v.fold_levels(3, &mut level, CellBox::spanned(n, 0, n - 1));
         for (i, &b) in before.iter().enumerate() {
             assert_eq!(v.far(i, 3), u8::from(b & far != 0), "{i}");
             assert_eq!(v.free(i, 3), u8::from(b & (far | free) != 0), "{i}");
@@ -376,8 +445,31 @@ mod tests {
         level[5] = near;
         level[140] = far;
         before = level.clone();
-        v.fold_levels(3, &mut level, 64..128);
+        v.fold_levels(3, &mut level, CellBox::spanned(n, 64, 127));
         assert_eq!(level, before);
         assert!(!v.crossed_in(5, 3) && v.far(140, 3) == 0);
+    }
+
+    #[test]
+    fn a_box_lists_the_words_of_its_cells_once_each() {
+        // Invariant: words() yields exactly the words holding the box's cells, ascending, once each.
+        for (width, x0, x1, y0, y1) in [(100, 30, 70, 0, 3), (100, 0, 99, 2, 9), (800, 5, 5, 0, 40)]
+        {
+            let b = CellBox {
+                width,
+                x0,
+                x1,
+                y0,
+                y1,
+            };
+            let mut want: Vec<usize> = (y0..=y1)
+                .flat_map(|y| (x0..=x1).map(move |x| (y * width + x) / 64))
+                .collect();
+            want.dedup();
+            assert_eq!(b.words(usize::MAX).collect::<Vec<_>>(), want, "{b:?}");
+        }
+        assert_eq!(CellBox::EMPTY.words(10).count(), 0);
+        let u = CellBox::spanned(10, 3, 12).union(CellBox::spanned(10, 25, 25));
+        assert_eq!((u.x0, u.x1, u.y0, u.y1), (2, 5, 0, 2));
     }
 }
