@@ -13,7 +13,7 @@
 
 use nalgebra::Point2;
 
-use super::geometry::{CellIndex, GridGeometry};
+use super::geometry::{CellIndex, GridGeometry, floor};
 use super::layers::Crossing;
 
 /// One visited cell and the segment parameter (0 at the start, 1 at the end) where the segment leaves it.
@@ -83,14 +83,14 @@ impl Traversal {
         let (sx, sy) = (ax + t0 * dx, ay + t0 * dy);
         let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
         let start = |s: f64, d: f64, n: f64| -> i64 {
-            let f = s.floor();
+            let f = floor(s);
             let c = if d < 0.0 && f == s { f - 1.0 } else { f };
             c.clamp(0.0, n - 1.0) as i64
         };
         let x = start(sx, dx, w);
         let y = start(sy, dy, h);
-        let end_x = ex.floor().clamp(0.0, w - 1.0) as i64;
-        let end_y = ey.floor().clamp(0.0, h - 1.0) as i64;
+        let end_x = floor(ex).clamp(0.0, w - 1.0) as i64;
+        let end_y = floor(ey).clamp(0.0, h - 1.0) as i64;
         let axis = |c: i64, d: f64, a: f64| -> (i64, f64, f64) {
             if d > 0.0 {
                 (1, ((c + 1) as f64 - a) / d, 1.0 / d)

@@ -139,22 +139,16 @@ impl ObstacleGrid {
                 }
             }
         }
-        l.visible.fold_levels(f, &mut s.level, walked);
-        self.record_crossings(s);
-    }
-
-    /// Lists the cells crossed this frame that are not free, for classification, in row-major order
-    /// (free cells seen free again need nothing: their crossings are already recorded as bits).
-    fn record_crossings(&mut self, s: &mut Scratch) {
+        // The crossed cells that are not free, for classification, in row-major order (free cells
+        // seen free again need nothing: their crossings are recorded as bits).
         s.crossed.clear();
-        let l = &mut self.layers;
         let class = l.class.as_slice();
-        l.visible.for_each_crossed_word(self.frame, |k, bits| {
+        let crossed = &mut s.crossed;
+        l.visible.fold_levels(f, &mut s.level, walked, |k, bits| {
             let base = k * 64;
             let mut bits = bits & not_free(class, base);
             while bits != 0 {
-                s.crossed
-                    .push((base + bits.trailing_zeros() as usize) as u32);
+                crossed.push((base + bits.trailing_zeros() as usize) as u32);
                 bits &= bits - 1;
             }
         });

@@ -190,9 +190,17 @@ impl VisibleArea {
 
     /// Folds a frame's level bytes (one per cell, or-ed [`Crossing::level`]s; see
     /// `Traversal::for_each_cell`) of the cells in `cells` (and any others of their grid words)
-    /// into frame `f`'s planes, and zeroes them. Other bytes are left alone; `level` is as long as
-    /// the grid.
-    pub fn fold_levels(&mut self, f: u32, level: &mut [u8], cells: CellBox) {
+    /// into frame `f`'s planes, and zeroes them; then calls `crossed(k, bits)` for every word `k` of
+    /// them with cells crossed this frame (however near their returns), in increasing `k`. Other
+    /// bytes are left alone; `level` is as long as the grid. Call it once the frame's walks are
+    /// done (it records the union for [`Self::begin`]).
+    pub fn fold_levels(
+        &mut self,
+        f: u32,
+        level: &mut [u8],
+        cells: CellBox,
+        mut crossed: impl FnMut(usize, u64),
+    ) {
         const ONES: u64 = 0x0101_0101_0101_0101;
         // Gathers bit 0 of each of the eight bytes into one byte (byte j to bit j).
         let gather = |v: u64| (v & ONES).wrapping_mul(0x0102_0408_1020_4080) >> 56;
@@ -230,10 +238,13 @@ impl VisibleArea {
                 tail.fill(0);
                 fold(bytes_len / 8, u64::from_le_bytes(b));
             }
-            if planes != [0; 3] {
-                for (p, plane) in planes.into_iter().enumerate() {
-                    out.words[k][p] |= plane;
-                }
+            let w = &mut out.words[k];
+            for (p, plane) in planes.into_iter().enumerate() {
+                w[p] |= plane;
+            }
+            w[ANY] = w[FAR] | w[FREE] | w[NEAR];
+            if w[ANY] != 0 {
+                crossed(k, w[ANY]);
             }
         }
         out.cover(cells);
@@ -242,6 +253,7 @@ impl VisibleArea {
     /// Calls `f(k, crossed)` for every word `k` frame `f` may have set, with the bits of the cells
     /// crossed in it (however near their returns), in increasing `k`; call it once the frame's walks
     /// are done (it records the union for [`Self::begin`]).
+    #[cfg(test)]
     pub fn for_each_crossed_word(&mut self, f: u32, mut each: impl FnMut(usize, u64)) {
         let s = f as usize % SLOTS;
         if f == 0 || self.frame[s] != f {
@@ -434,7 +446,11 @@ mod tests {
             level[i] = b;
         }
         let mut before = level.clone();
-        v.fold_levels(3, &mut level, CellBox::spanned(n, 0, n - 1));
+        let mut listed = 0;
+        v.fold_levels(3, &mut level, CellBox::spanned(n, 0, n - 1), |_, bits| {
+            listed += bits.count_ones()
+        });
+        assert_eq!(listed, 8, "every crossed cell listed once");
         for (i, &b) in before.iter().enumerate() {
             assert_eq!(v.far(i, 3), u8::from(b & far != 0), "{i}");
             assert_eq!(v.free(i, 3), u8::from(b & (far | free) != 0), "{i}");
@@ -445,7 +461,7 @@ mod tests {
         level[5] = near;
         level[140] = far;
         before = level.clone();
-        v.fold_levels(3, &mut level, CellBox::spanned(n, 64, 127));
+        v.fold_levels(3, &mut level, CellBox::spanned(n, 64, 127), |_, _| {});
         assert_eq!(level, before);
         assert!(!v.crossed_in(5, 3) && v.far(140, 3) == 0);
     }
