@@ -1,8 +1,9 @@
 //! The grid's per-cell storage, structure-of-arrays, and the frame-stamped histories the rules read.
 //!
-//! Nothing here is cleared per frame. Each history is a byte of bits (bit k = "happened at frame
+//! Nothing here is cleared per frame. A return history is a byte of bits (bit k = "happened at frame
 //! `stamp − k`") plus the frame stamp of its latest bit; reading it at frame `f` shifts it by
-//! `f − stamp`. So a frame touches only the cells its rays cross and the rules' neighbourhoods.
+//! `f − stamp`. Crossing histories are read the same way from the ring of per-frame bit-planes in
+//! [`VisibleArea`]. So a frame touches only the returns and the rules' neighbourhoods per cell.
 
 use super::visible::VisibleArea;
 use crate::prism::ObjectId;

@@ -420,6 +420,34 @@ mod tests {
     }
 
     #[test]
+    fn a_cell_keeps_its_last_crossing_after_the_ring_moves_on() {
+        // Invariant: last_seen is the stamp of the latest frame whose rays crossed the cell, also
+        // when that frame is older than the ring of recent visible areas.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 20, 3, 0.05).expect("valid");
+        let cfg = GridConfig {
+            clear_tail: 0.0,
+            ..GridConfig::default()
+        };
+        let mut grid = ObstacleGrid::new(geom, cfg);
+        let sensor = Point2::new(0.025, 0.075);
+        for k in 1..=9 {
+            let mut frame = RangeFrame::new(sensor).expect("finite");
+            // The first frame sees to cell 16, later ones only to cell 5.
+            let x = if k == 1 { 0.825 } else { 0.275 };
+            frame.push_hit(Point2::new(x, 0.075));
+            grid.update(&frame, f64::from(k)).expect("in order");
+        }
+        let seen = |x| grid.cell(CellIndex::new(x, 1)).expect("in grid").last_seen;
+        assert_eq!(seen(10), Some(1.0));
+        assert_eq!(seen(2), Some(9.0));
+        assert_eq!(seen(0), Some(9.0), "the sensor's own cell is crossed");
+        assert_eq!(
+            grid.cell(CellIndex::new(10, 0)).expect("in grid").last_seen,
+            None
+        );
+    }
+
+    #[test]
     fn the_not_free_mask_matches_the_classes() {
         // Invariant: bit j of not_free(class, base) is set iff cell base + j exists and is not Free.
         let mut s = 0x1234_5678_u64;
