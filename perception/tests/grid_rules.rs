@@ -22,6 +22,7 @@ fn grid() -> ObstacleGrid {
         clear_margin: 0.3,
         clear_tail: 0.0,
         free_gap: 0.0,
+        appear_gap: 0.06,
     };
     ObstacleGrid::new(geom, cfg)
 }

@@ -58,6 +58,7 @@ fn room() -> Room {
         colour,
         texture: Texture::Plain,
         owner,
+        legs_from: None,
     };
     let wall = [225, 222, 210];
     let fixed_at =
@@ -91,6 +92,7 @@ fn room() -> Room {
             colour: [140, 90, 50],
             texture: Texture::Stripes,
             owner: Owner::Object(0),
+            legs_from: None,
         },
     );
 
@@ -106,6 +108,7 @@ fn room() -> Room {
                 colour: [60, 90, 200],
                 texture: Texture::Checker,
                 owner: Owner::Object(i),
+                legs_from: None,
             },
         );
     }

@@ -250,6 +250,7 @@ impl Actor {
                 colour: ACTOR_COLOUR,
                 texture: Texture::Plain,
                 owner: Owner::Actor(index),
+                legs_from: None,
             },
         );
         let carried = match &spec.carries {

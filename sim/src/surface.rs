@@ -10,6 +10,8 @@ const PATTERN_CELL: f64 = 0.05;
 const NOISE_CELL: f64 = 0.02;
 /// The darker shade of a pattern is this fraction of the main colour.
 const DARK_SHADE: f64 = 0.6;
+/// Legs of furniture are this fraction of the main colour, so parts read apart.
+const LEG_SHADE: f64 = 0.8;
 /// Shifts the pattern grid off the round numbers object faces sit on, so a flat face never lies on a
 /// cell boundary where rounding noise would speckle it.
 const GRID_OFFSET: f64 = 0.0123;
@@ -38,9 +40,36 @@ pub struct Surface {
     pub texture: Texture,
     /// What the collider belongs to.
     pub owner: Owner,
+    /// For a compound collider (furniture): its parts from this index on are legs, seen a shade
+    /// darker than the rest. `None`: every part looks alike.
+    pub legs_from: Option<usize>,
 }
 
 impl Surface {
+    /// One plain-looking surface (no legs).
+    pub fn new(colour: [u8; 3], texture: Texture, owner: Owner) -> Self {
+        Self {
+            colour,
+            texture,
+            owner,
+            legs_from: None,
+        }
+    }
+
+    /// How part `k` of the collider looks: legs take a darker colour.
+    pub fn of_part(&self, k: usize) -> Self {
+        let leg = self.legs_from.is_some_and(|first| k >= first);
+        Self {
+            colour: if leg {
+                self.colour.map(|c| (f64::from(c) * LEG_SHADE) as u8)
+            } else {
+                self.colour
+            },
+            legs_from: None,
+            ..*self
+        }
+    }
+
     /// The colour seen at `local_point`, a point on the surface in the collider's local frame (m).
     ///
     /// The pattern is fixed to the collider, so it moves with the object — what colour ICP needs.
@@ -109,6 +138,7 @@ mod tests {
             colour: [200, 100, 50],
             texture,
             owner: Owner::Object(0),
+            legs_from: None,
         }
     }
 

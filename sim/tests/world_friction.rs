@@ -33,8 +33,8 @@ fn floor_contact_friction_equals_object_friction() {
         );
         checked += 1;
     }
-    // Table and two chairs have a top/seat (+ back) and four legs; the mat is one box.
-    assert_eq!(checked, 5 + 6 + 6 + 1);
+    // One collider per object (furniture is one compound of its top/seat, back and legs).
+    assert_eq!(checked, 4);
 }
 
 #[test]

@@ -59,15 +59,18 @@ fn sliding_chair_reads_its_friction_force() {
     // Tilt of the chair's z axis from vertical.
     let up = end.rotation * nalgebra::Vector3::z();
     assert!(up.z > 0.99, "chair tipped: up = {up:?}");
-    // Sliding: from 0.5 s after first contact until the hand stops.
-    let contact = trace.iter().find(|s| s.force > 1.0).expect("contact").t;
+    // Sliding: from 0.5 s after first contact (the executive's 2 N threshold, ten times the noise
+    // per axis) until the hand stops.
+    let contact = trace.iter().find(|s| s.force > 2.0).expect("contact").t;
     let approach_peak = trace
         .iter()
         .filter(|s| s.t < contact)
         .map(|s| s.force)
         .fold(0.0, f64::max);
+    // Accelerating the 0.5 kg hand takes 0.25 N; the sensor's noise (σ 0.2 N per axis) reaches 1 N
+    // about once in a run's thousands of free-motion samples.
     assert!(
-        approach_peak <= 1.0,
+        approach_peak <= 1.5,
         "free hand motion read {approach_peak} N"
     );
     let stop = trace.last().expect("trace").t;
@@ -91,6 +94,42 @@ fn sliding_chair_reads_its_friction_force() {
         (mean - mu_m_g).abs() < 0.2 * mu_m_g,
         "mean sliding force {mean} vs μmg {mu_m_g}"
     );
+}
+
+#[test]
+fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
+    // Every quarter second of a chair sliding under the hand at 2 cm/s reads within 1 N of μ m g: no stale contact points (rapier's contact recycling) hold the force above friction once the chair slides.
+    let s = robot_and(
+        "name = \"chair\"\nkind = \"chair\"\nyaw = 180.0\nposition = [1.8, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 4.0\nfriction = 0.4\ncolour = [40, 120, 200]",
+    );
+    let mut robot = SimRobot::new(&s, 3).expect("world");
+    let motion = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.43),
+        to: Point3::new(0.7, 0.0, 0.43),
+        speed: 0.02,
+        force_limit: 40.0,
+    };
+    let (trace, outcome) = push(&mut robot, motion);
+    assert_eq!(outcome, HandOutcome::Reached);
+    let contact = trace.iter().find(|s| s.force > 2.0).expect("contact").t;
+    let stop = trace.last().expect("trace").t;
+    let sliding: Vec<f64> = trace
+        .iter()
+        .filter(|s| s.t > contact + 0.5 && s.t < stop - 0.1)
+        .map(|s| s.force)
+        .collect();
+    let mu_m_g = 0.4 * 4.0 * 9.81;
+    let windows: Vec<f64> = sliding
+        .chunks(250)
+        .map(|w| w.iter().sum::<f64>() / w.len() as f64)
+        .collect();
+    assert!(windows.len() >= 20, "only {} windows", windows.len());
+    for (k, mean) in windows.iter().enumerate() {
+        assert!(
+            (mean - mu_m_g).abs() < 1.0,
+            "window {k}: {mean:.2} N vs μmg {mu_m_g:.2} N"
+        );
+    }
 }
 
 #[test]

@@ -8,18 +8,21 @@
 //! the observed cells (last seen this frame, one true class over the whole cell). The goals (Tamura
 //! and Chen): ≥ 98 % of the returns on moving things called Moving; under 1 % of the wall cells ever
 //! called anything but Stationary or Unknown; the resting suitcase becomes Movable and never
-//! Stationary; once it is taken away its cells are no longer Movable. The Moving recall goal is not
-//! met yet: the test prints whether the goals are and holds the grid to what it reaches (see the
-//! constants).
+//! Stationary; once it is taken away its cells are no longer Movable. `HALLWAY_MISSES=1` prints
+//! every return whose Moving call disagrees with the truth.
 
 use std::collections::HashSet;
 
 use nalgebra::Point2;
 use nudge_executive::robot::{ActionStatus, Base, Clock, Head, RangeCamera};
-use nudge_perception::grid::{CellClass, ColumnReduction, GridGeometry, ObstacleGrid, RangeFrame};
+use nudge_perception::grid::{
+    BeamEnd, CellClass, ColumnReduction, GridGeometry, ObstacleGrid, RangeFrame,
+};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::truth::{MOVING_SPEED, TrueClass};
-use nudge_tests::hallway::{Confusion, TamuraTruth, score_cells, score_returns};
+use nudge_tests::hallway::{
+    Confusion, TamuraTruth, score_cells, score_returns, true_class_of_return,
+};
 
 /// Frame period (s): Tamura's 10 Hz.
 const DT: f64 = 0.1;
@@ -129,6 +132,9 @@ fn run_hallway(seed: u64) -> Run {
 
         let truth = TamuraTruth::new(robot.world());
         let returns = score_returns(&grid, &frame, &truth);
+        if std::env::var_os("HALLWAY_MISSES").is_some() {
+            print_misses(&grid, &frame, &truth, now);
+        }
         if returns.truly(TrueClass::Moving) > 0 {
             run.moving_frames += 1;
         }
@@ -226,24 +232,41 @@ fn run_hallway(seed: u64) -> Run {
     run
 }
 
+/// Diagnostics (`HALLWAY_MISSES=1`): every return whose Moving call disagrees with the truth, with
+/// the rule behind its cell's class.
+fn print_misses(grid: &ObstacleGrid, frame: &RangeFrame, truth: &TamuraTruth<'_>, now: f64) {
+    for b in frame.beams().iter().filter(|b| b.kind == BeamEnd::Hit) {
+        let t = true_class_of_return(truth, frame.sensor(), b.end);
+        let Some(info) = grid.geometry().cell_of(b.end).and_then(|c| grid.cell(c)) else {
+            continue;
+        };
+        if (t == TrueClass::Moving) != (info.class == CellClass::Moving) {
+            println!(
+                "miss t {now:.1}: truly {t:?}, grid {:?} ({:?}) at ({:.3}, {:.3}), {:.2} m away",
+                info.class,
+                info.evidence,
+                b.end.x,
+                b.end.y,
+                (b.end - frame.sensor()).norm()
+            );
+        }
+    }
+}
+
 fn pct(v: Option<f64>) -> String {
     v.map_or("-".into(), |v| format!("{:.2} %", 100.0 * v))
 }
 
 /// Tamura's and Chen's goals: ≥ 98 % of the returns on moving things called Moving, under 1 % of
-/// the wall cells ever misclassified.
+/// the wall cells ever misclassified. On this run (seed 1) the grid reaches 98.05 % (48 of 2467
+/// returns missed: 22 in the person's first two frames back inside the 5 m range, where no previous
+/// frame saw; 8 on its flanks as it steps sideways round the suitcase; 15 on the suitcase as it is
+/// taken, from behind the person and at the edge of the view; 3 as the person enters the view).
 const MOVING_RECALL_GOAL: f64 = 0.98;
 const WALLS_WRONG_GOAL: f64 = 0.01;
-/// What the grid reaches on this run (seed 1) where it misses the goal: Moving recall 97.61 % (59
-/// of 2467 returns missed: 41 in the person's first four frames back inside the 5 m range, tentative
-/// until it has been seen entering free space; 8 on the pulled suitcase's last visible end as it
-/// leaves the view with nothing else moving in view, which reads as resting; the rest single
-/// returns). The test holds the grid to it so that it cannot slip back unnoticed.
-const MOVING_RECALL_REACHED: f64 = 0.976;
-
 #[test]
 fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
-    // Invariant: walking Tamura's hallway, under 1 % of wall cells are ever misclassified, the resting suitcase becomes Movable and is never Stationary, its cells are deleted once it is taken, and Moving recall stays at the 97.6 % reached (goal 98 %, reported).
+    // Invariant: walking Tamura's hallway, at least 98 % of the returns on moving things are called Moving, under 1 % of wall cells are ever misclassified, the resting suitcase becomes Movable and is never Stationary, and its cells are deleted once it is taken.
     let run = run_hallway(1);
     println!("{}", run.returns.table("returns (Tamura's data points):"));
     println!(
@@ -304,10 +327,10 @@ fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
         },
     );
     assert!(
-        moving_recall.is_some_and(|r| r >= MOVING_RECALL_REACHED),
-        "Moving recall {} fell below the {:.1} % reached",
+        moving_recall.is_some_and(|r| r >= MOVING_RECALL_GOAL),
+        "Moving recall {} is under the {:.0} % goal",
         pct(moving_recall),
-        100.0 * MOVING_RECALL_REACHED
+        100.0 * MOVING_RECALL_GOAL
     );
     assert!(
         wall_wrong < WALLS_WRONG_GOAL,

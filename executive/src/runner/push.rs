@@ -126,7 +126,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let contact = self.contact_in_base(intent)?;
         let from_x = (contact.x - motion.approach_gap).max(motion.near);
         let to_x = (contact.x + motion.test_travel).min(motion.reach);
-        let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height)?;
+        let limit = self.config.executive.force_limit;
+        let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height, limit)?;
         if stroke.contact {
             let base = self.robot.base_pose()?.value;
             self.world.touched = Some((intent.target, base * Point2::new(stroke.end_x, contact.y)));
@@ -138,9 +139,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 let shift = direction * stroke.travel_after_contact;
                 let after = self.object_points(p, shift)?;
                 let reading = icp_reading(&before, &after, shift);
+                let classifier = &self.config.executive.classifier;
+                // Whatever the finding, a trusted motion reading is where the object is now: a retest
+                // plans from there.
                 if let Some((icp, moved)) = reading
-                    && icp.converged
-                    && icp.displacement >= self.config.executive.classifier.still_below
+                    && classifier.trusts(&icp)
+                    && icp.displacement >= classifier.still_below
                 {
                     self.displace(intent.target, moved);
                 }
@@ -206,7 +210,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             };
             let from_x = (face.x - gap).max(motion.near);
             let to_x = (face.x + remaining).min(motion.reach);
-            let stroke = self.stroke(from_x, to_x, face.y, intent.hand_height)?;
+            let limit = self.config.executive.clear_force_limit;
+            let stroke = self.stroke(from_x, to_x, face.y, intent.hand_height, limit)?;
             peak = peak.max(stroke.peak_force);
             moved += stroke.travel_after_contact;
             self.retract()?;
@@ -245,8 +250,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         Ok(())
     }
 
-    /// One guarded stroke along `base_link` x at lateral offset `y` and height `z`, watching the wrist.
-    fn stroke(&mut self, from_x: f64, to_x: f64, y: f64, z: f64) -> Result<Stroke, Interrupt> {
+    /// One guarded stroke along `base_link` x at lateral offset `y` and height `z` that stops at
+    /// `force_limit`, watching the wrist.
+    fn stroke(
+        &mut self,
+        from_x: f64,
+        to_x: f64,
+        y: f64,
+        z: f64,
+        force_limit: f64,
+    ) -> Result<Stroke, Interrupt> {
         let motion = self.config.push_motion.clone();
         self.robot.tare()?;
         self.robot.drain_wrenches()?;
@@ -254,7 +267,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             from: Point3::new(from_x, y, z),
             to: Point3::new(to_x.max(from_x), y, z),
             speed: motion.speed,
-            force_limit: self.config.executive.force_limit,
+            force_limit,
         })?;
         let mut trace = Vec::new();
         let mut hand: Vec<Stamped<Point3<f64>>> = Vec::new();

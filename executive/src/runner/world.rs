@@ -3,7 +3,9 @@
 use nalgebra::{Isometry3, Point2};
 use nudge_motion::{Bounds, Path, Problem, PushPlan, Validity};
 use nudge_perception::grid::ObstacleGrid;
-use nudge_perception::{ColourCloud, FloorModel, Prism};
+use std::collections::BTreeSet;
+
+use nudge_perception::{ColourCloud, FloorModel, ObjectId, Prism};
 
 use super::config::RunConfig;
 
@@ -28,6 +30,8 @@ pub(crate) struct WorldModel {
     /// Where the hand last ended a stroke in contact with an object (map frame): that object's face on
     /// the push line, measured rather than perceived.
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
+    /// Obstacles a push test found static: they stay where they were measured (see [`Self::remember`]).
+    pub settled: BTreeSet<ObjectId>,
 }
 
 /// Clearances tried when planning, as fractions of the configured one, largest first: where the robot
@@ -135,6 +139,10 @@ impl WorldModel {
     /// new obstacle overlapping an old one grows to cover it unless the new look saw floor where the old
     /// part stood (one object seen in parts), and an old obstacle no new one overlaps is kept unless the
     /// new look saw floor inside it (it was moved away).
+    ///
+    /// An obstacle a push test found static stays whole, whatever floor shows: it does not move, and
+    /// floor seen between a table's legs must not shrink the table to the part of its top in view. A
+    /// new obstacle overlapping it takes its id, so the verdict stays with the object.
     pub fn remember(
         &mut self,
         detected: Vec<Prism>,
@@ -158,22 +166,34 @@ impl WorldModel {
                 >= config.forget_after_floor_points
         };
         let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
+        let settled = |p: &Prism| self.settled.contains(&p.id);
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
         for new in detected {
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
-                if !seen_floor(old, Some(&new)) {
+                if settled(old) {
+                    merged = old.merged_with(&merged);
+                } else if !seen_floor(old, Some(&new)) {
                     merged = merged.merged_with(old);
                 }
             }
             current.push(merged);
         }
         for old in &self.prisms {
-            if !current.iter().any(|c| overlaps(c, old)) && !seen_floor(old, None) {
+            if !current.iter().any(|c| overlaps(c, old)) && (settled(old) || !seen_floor(old, None))
+            {
                 current.push(old.clone());
             }
         }
+        // Two detections merged into one settled obstacle: keep one prism per id.
         current.sort_by_key(|p| p.id);
+        current.dedup_by(|b, a| {
+            let same = a.id == b.id;
+            if same {
+                *a = a.merged_with(b);
+            }
+            same
+        });
         self.prisms = current;
     }
 
@@ -221,4 +241,78 @@ fn footprint_box(prism: &Prism) -> (Point2<f64>, Point2<f64>) {
         .footprint
         .iter()
         .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nudge_perception::CloudFrame;
+
+    /// An axis-aligned box prism `[x0, x1] × [y0, y1]`, 0.72 m high.
+    fn prism(id: u32, x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
+        Prism {
+            id: ObjectId(id),
+            footprint: vec![
+                Point2::new(x0, y0),
+                Point2::new(x1, y0),
+                Point2::new(x1, y1),
+                Point2::new(x0, y1),
+            ],
+            z_min: 0.0,
+            z_max: 0.72,
+            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
+        }
+    }
+
+    /// Floor points on a 2 cm grid over `[x0, x1] × [y0, y1]`.
+    fn floor(x0: f64, y0: f64, x1: f64, y1: f64) -> ColourCloud {
+        let mut cloud = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        let steps = |a: f64, b: f64| {
+            (0..)
+                .map(move |k| a + 0.02 * f64::from(k))
+                .take_while(move |v| *v <= b)
+        };
+        for x in steps(x0, x1) {
+            for y in steps(y0, y1) {
+                cloud.push(
+                    nalgebra::Point3::new(x as f32, y as f32, 0.0),
+                    [150, 150, 140],
+                );
+            }
+        }
+        cloud
+    }
+
+    #[test]
+    fn a_static_table_seen_in_part_with_floor_between_its_legs_stays_whole_and_keeps_its_id() {
+        // Invariant: an obstacle a push test found static is neither shrunk nor dropped by a later look that sees floor inside it, and a new detection overlapping it takes its id; an untested obstacle in the same situation is replaced.
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        let config = RunConfig::new(robot_shape, Point2::new(5.4, 1.8), 0.2, 1);
+        let robot = Point2::new(0.6, 1.8);
+        let table = prism(2, 2.6, 1.2, 3.4, 2.4);
+        // The new look sees only the near half of the top, and floor under the far half.
+        let part = prism(22, 2.6, 1.2, 3.0, 2.4);
+        let under = floor(3.05, 1.25, 3.35, 2.35);
+        let mut world = WorldModel {
+            prisms: vec![table.clone()],
+            ..WorldModel::default()
+        };
+        world.settled.insert(ObjectId(2));
+        world.remember(vec![part.clone()], &under, &robot, &config);
+        assert_eq!(world.prisms.len(), 1);
+        assert_eq!(world.prisms[0].id, ObjectId(2));
+        assert!(world.prisms[0].contains_xy(&Point2::new(3.3, 2.3)));
+
+        let mut untested = WorldModel {
+            prisms: vec![table],
+            ..WorldModel::default()
+        };
+        untested.remember(vec![part], &under, &robot, &config);
+        assert_eq!(untested.prisms.len(), 1);
+        assert_eq!(untested.prisms[0].id, ObjectId(22));
+        assert!(!untested.prisms[0].contains_xy(&Point2::new(3.3, 2.3)));
+    }
 }

@@ -34,10 +34,13 @@ pub enum Rule {
     /// A resting return next to a movable cell found by addition or retention: a new face of the same
     /// movable obstacle coming into view (Tamura 3.2.2's ε-neighbourhood, one ring deep).
     MovableExtension = 10,
+    /// A return inside what the previous frame saw empty along its bearing: the previous beams around
+    /// it went on past it with nothing returned (Tamura 3.1 on the ray, as range-image differencing).
+    Appeared = 11,
 }
 
 impl Rule {
-    const ALL: [Rule; 11] = [
+    const ALL: [Rule; 12] = [
         Rule::SeenFree,
         Rule::Moving,
         Rule::MovingContinued,
@@ -49,6 +52,7 @@ impl Rule {
         Rule::MovingExpired,
         Rule::StationaryCleared,
         Rule::MovableExtension,
+        Rule::Appeared,
     ];
 }
 

@@ -16,6 +16,14 @@
 //!    nothing was returned in its 8-neighbourhood at t−1 or t−2 (Chen 2.4's neighbourhood, here
 //!    against rays grazing a surface: they cross its cells just before their return), nor nearer the
 //!    sensor within half the along-surface beam spacing at the grazing limit (`quiet_radius`).
+//!    **On the ray** (`rules/appeared.rs`, range-image differencing), for any return not in a
+//!    Stationary cell: seen from the previous frame's sensor position, the two previous beams
+//!    straddling its bearing and the next one out on each side all went on at least `appear_gap`
+//!    past it with nothing returned — it appeared inside what the previous frame saw empty. This
+//!    needs no cell seen free twice, so a person walking in from a laser's range limit is moving from
+//!    its second frame (from its third for a camera, whose clear beams end at the farthest floor
+//!    point, short of the limit); a static surface cannot lie beyond itself on both sides of a bearing, and a wall
+//!    entering the range limit was beyond every previous beam. One binary search per return.
 //! 2. **Movable retention** (Tamura 3.2.2, `rules/movable.rs`): a movable cell stays movable — unless
 //!    motion is nearby (the movable obstacle is being moved: moving).
 //! 3. **Movable extension** (Tamura 3.2.2's ε-neighbourhood): a return in place (returned around in
@@ -48,7 +56,9 @@
 //! at the closest point of passing) returns the same cells frame after frame and can read as resting
 //! (movable) when no other motion is within `rest_radius`; a person walking slower than about one cell
 //! per frame reads as resting too (Tamura's ε has the same trade-off); the first frame of anything
-//! entering the field of view is tentative (nothing was seen free there before).
+//! entering the field of view is tentative (nothing was seen free there before), and so is the first
+//! frame of anything entering the range limit (a camera column records how far it saw the floor,
+//! not how far its rays above the floor reached).
 //!
 //! # Active evidence and precedence
 //! A push test outranks any passive rule: cells marked by [`ObstacleGrid::mark_object`] keep their
@@ -72,7 +82,8 @@
 //! costs its bits and nothing per cell. Returns keep an 8-byte frame-stamped record per cell (hit and
 //! temporarily stationary bit bytes); a cell's last observation is its latest frame number (looked
 //! up in a per-frame stamp table), with crossings older than the ring kept per cell when a slot is
-//! reused. So an update costs O(ray steps + cells in the walks' box / 8 + returns × neighbourhood).
+//! reused. So an update costs O(ray steps + cells in the walks' box / 8 + returns × neighbourhood),
+//! plus O(beams · log beams) for the ray rule's previous frame ordered by bearing.
 
 mod active;
 mod class;
@@ -168,6 +179,12 @@ pub struct GridConfig {
     /// About three times the range noise at the sensor's limit: default 0.1 m (σ ≈ 3 cm at 5 m and
     /// 80° incidence for an SR4000-like camera). Cells crossed nearer still count as observed (age).
     pub free_gap: f64,
+    /// A return has appeared inside the previous frame's range (moving) when the previous frame's
+    /// beams around its bearing went on at least this far past it with nothing returned: about three
+    /// standard deviations of the difference of two ranges at 5 m (√2 · 1.5 cm for an SR4000-like
+    /// camera), under what a person walking towards the robot covers in a frame (0.1 m at 1 m/s and
+    /// 10 Hz). Default 0.06 m.
+    pub appear_gap: f64,
 }
 
 impl Default for GridConfig {
@@ -178,6 +195,7 @@ impl Default for GridConfig {
             clear_margin: 0.3,
             clear_tail: 0.15,
             free_gap: 0.05,
+            appear_gap: 0.06,
         }
     }
 }
@@ -206,6 +224,8 @@ pub struct ObstacleGrid {
     objects: HashMap<ObjectId, ObjectRecord>,
     watch_gen: u32,
     replan: Option<ReplanReason>,
+    /// The previous frame's beams by bearing and this frame's returns that appeared inside them.
+    appearances: rules::appeared::Appearances,
     scratch: update::Scratch,
 }
 
@@ -222,6 +242,7 @@ impl ObstacleGrid {
             objects: HashMap::new(),
             watch_gen: 0,
             replan: None,
+            appearances: Default::default(),
             scratch: update::Scratch::default(),
         }
     }

@@ -50,6 +50,8 @@ impl ObstacleGrid {
         self.last_stamp = Some(now);
         self.layers.stamps.push(now);
         let mut s = std::mem::take(&mut self.scratch);
+        self.appearances
+            .observe(frame, &self.geom, self.cfg.appear_gap);
         self.traverse(frame, &mut s);
         self.stamp_previous_motion();
         self.stamp_vacated(&mut s);
@@ -203,7 +205,8 @@ impl ObstacleGrid {
         let w = self.geom.width();
 
         for (&i, &quiet) in s.hits.iter().zip(&s.quiet) {
-            let around = (usize::from(quiet), sensor);
+            let appeared = self.appearances.contains(i as usize);
+            let around = (usize::from(quiet), sensor, appeared);
             let d = rules::decide_hit(&self.layers, &self.geom, i as usize, f, around);
             if let HitDecision::Set(CellClass::Moving, _) = d {
                 s.motion

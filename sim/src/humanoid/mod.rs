@@ -101,6 +101,7 @@ impl Humanoid {
             colour: ROBOT_COLOUR,
             texture: Texture::Plain,
             owner: Owner::Robot,
+            legs_from: None,
         };
 
         let body = physics.bodies.insert(

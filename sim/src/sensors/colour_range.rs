@@ -36,7 +36,7 @@ use rapier3d::geometry::{Aabb, BroadPhaseBvh, Collider, ColliderHandle, Collider
 use rapier3d::math::{Matrix, Pose, Real, Rotation, Vector};
 use rapier3d::parry::bounding_volume::BoundingVolume;
 use rapier3d::parry::query::DefaultQueryDispatcher;
-use rapier3d::parry::shape::Shape;
+use rapier3d::parry::shape::{Compound, Shape};
 use rapier3d::pipeline::{QueryFilter, QueryFilterFlags, QueryPipeline};
 use rayon::prelude::*;
 
@@ -304,7 +304,7 @@ impl SensorScene<'_> {
 /// );
 /// world.detect_collisions(&(), &()); // the sensor sees what the broad phase indexes
 ///
-/// let red = Surface { colour: [200, 30, 30], texture: Texture::Plain, owner: Owner::Object(0) };
+/// let red = Surface::new([200, 30, 30], Texture::Plain, Owner::Object(0));
 /// let lookup = move |h: ColliderHandle| (h == box_collider).then_some(red);
 /// let scene = SensorScene {
 ///     bodies: &world.bodies,
@@ -491,8 +491,10 @@ struct Frame<'f> {
 }
 
 /// The nearest surface a ray meets.
-struct Hit<'c> {
-    collider: &'c Collider,
+struct Hit {
+    /// The frame the surface's pattern is fixed to: the pose of the collider, or of the compound's
+    /// part, that was hit.
+    frame: Pose,
     surface: Option<Surface>,
     /// Distance along the ray (m).
     toi: Real,
@@ -505,7 +507,7 @@ trait RowCaster<'c> {
     /// Prepares for the rays of `row`.
     fn begin_row(&mut self, row: usize);
     /// The nearest surface within `max_range` along `ray`, the ray of column `col`.
-    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>>;
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit>;
 }
 
 impl Frame<'_> {
@@ -546,7 +548,7 @@ impl Frame<'_> {
             let base = match &hit.surface {
                 Some(surface) => {
                     let world_hit = ray.origin + world_dir * toi;
-                    let local = hit.collider.position().inverse_transform_point(world_hit);
+                    let local = hit.frame.inverse_transform_point(world_hit);
                     let local =
                         Point3::new(f64::from(local.x), f64::from(local.y), f64::from(local.z));
                     surface.colour_at(local, self.scene.texture_seed)
@@ -583,7 +585,7 @@ impl<'c> PipelineCaster<'c> {
 impl<'c> RowCaster<'c> for PipelineCaster<'c> {
     fn begin_row(&mut self, _row: usize) {}
 
-    fn first_hit(&mut self, _col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>> {
+    fn first_hit(&mut self, _col: usize, ray: &Ray, max_range: Real) -> Option<Hit> {
         // The BVH's ray cast without normals takes parry's SIMD path; the normal then comes from
         // the one collider hit.
         let (handle, _) = self.pipeline.cast_ray(ray, max_range, true)?;
@@ -600,8 +602,15 @@ impl<'c> RowCaster<'c> for PipelineCaster<'c> {
             collider
                 .shape()
                 .cast_ray_and_get_normal(collider.position(), ray, max_range, true)?;
+        let (frame, surface) = match collider.shape().as_compound() {
+            Some(compound) => {
+                let (k, pose) = part_hit(compound, collider, ray, max_range);
+                (pose, surface.map(|s| s.of_part(k)))
+            }
+            None => (*collider.position(), surface),
+        };
         Some(Hit {
-            collider,
+            frame,
             surface,
             toi: intersection.time_of_impact,
             normal: intersection.normal,
@@ -609,10 +618,29 @@ impl<'c> RowCaster<'c> for PipelineCaster<'c> {
     }
 }
 
+/// The part of a compound collider that `ray` meets first, and its pose (part 0 if none does).
+fn part_hit(compound: &Compound, collider: &Collider, ray: &Ray, max_range: Real) -> (usize, Pose) {
+    let pose_of = |part_pose: &Pose| *collider.position() * *part_pose;
+    let mut best = (0, Real::INFINITY);
+    for (k, (part_pose, part)) in compound.shapes().iter().enumerate() {
+        if let Some(t) = part.cast_ray(&pose_of(part_pose), ray, max_range, true)
+            && t < best.1
+        {
+            best = (k, t);
+        }
+    }
+    let part_pose = compound
+        .shapes()
+        .get(best.0)
+        .map_or(Pose::IDENTITY, |(p, _)| *p);
+    (best.0, pose_of(&part_pose))
+}
+
 /// One piece of a visible collider (a compound's part, or the whole shape) in world coordinates,
 /// with its bounding box corners in the sensor frame for culling.
 struct Leaf<'c> {
-    collider: &'c Collider,
+    /// The pose of the collider or compound part (the surface pattern's frame).
+    frame: Pose,
     surface: Option<Surface>,
     geometry: LeafGeometry<'c>,
     /// World AABB corners, in the sensor frame.
@@ -740,7 +768,7 @@ impl<'c> Leaves<'c> {
                 continue;
             };
             let surface = (scene.surface)(handle);
-            let mut push = |shape: &'c dyn Shape, pose: Pose| {
+            let mut push = |shape: &'c dyn Shape, pose: Pose, surface: Option<Surface>| {
                 let aabb = shape.compute_aabb(&pose);
                 if !aabb.intersects(&frustum) {
                     return;
@@ -757,7 +785,7 @@ impl<'c> Leaves<'c> {
                     frame.pose.inverse_transform_point(v)
                 });
                 leaves.push(Leaf {
-                    collider,
+                    frame: pose,
                     surface,
                     geometry: LeafGeometry::new(shape, pose, frame.pose.translation),
                     corners,
@@ -768,11 +796,12 @@ impl<'c> Leaves<'c> {
             };
             match collider.shape().as_compound() {
                 Some(compound) => {
-                    for (part_pose, part) in compound.shapes() {
-                        push(part.as_ref(), *collider.position() * *part_pose);
+                    for (k, (part_pose, part)) in compound.shapes().iter().enumerate() {
+                        let look = surface.map(|s| s.of_part(k));
+                        push(part.as_ref(), *collider.position() * *part_pose, look);
                     }
                 }
-                None => push(collider.shape(), *collider.position()),
+                None => push(collider.shape(), *collider.position(), surface),
             }
         }
         // Nearest first (ties keep the broad phase's order, so the order is deterministic).
@@ -862,7 +891,7 @@ impl<'c> RowCaster<'c> for CulledCaster<'_, 'c> {
         }
     }
 
-    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit<'c>> {
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit> {
         let mut best: Option<(usize, Real)> = None;
         for &(lo, hi, i) in &self.candidates {
             if col < lo || col > hi {
@@ -883,7 +912,7 @@ impl<'c> RowCaster<'c> for CulledCaster<'_, 'c> {
         let leaf = &self.leaves.leaves[i];
         let normal = leaf.geometry.normal(ray, toi, max_range)?;
         Some(Hit {
-            collider: leaf.collider,
+            frame: leaf.frame,
             surface: leaf.surface,
             toi,
             normal,

@@ -78,6 +78,7 @@ impl TestScene {
                 colour,
                 texture,
                 owner,
+                legs_from: None,
             },
         );
         (b, c)
@@ -98,6 +99,7 @@ impl TestScene {
                 colour,
                 texture: Texture::Stripes,
                 owner: Owner::Object(1),
+                legs_from: None,
             },
         );
     }
@@ -134,6 +136,7 @@ impl TestScene {
                 colour,
                 texture: Texture::Checker,
                 owner: Owner::Object(2),
+                legs_from: None,
             },
         );
     }

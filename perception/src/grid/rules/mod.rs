@@ -3,6 +3,7 @@
 //! Every rule is a pure predicate over the grid's stored layers at frame `f` (the frame being
 //! processed: its returns are recorded, its classes not yet written), so each can be tested alone.
 
+pub(crate) mod appeared;
 pub(crate) mod free_space;
 pub mod fsm;
 pub(crate) mod movable;
@@ -34,14 +35,15 @@ pub(crate) enum HitDecision {
 }
 
 /// Tamura's Fig. 5 for one return at linear index `i` in frame `f` (see the module docs of `grid`);
-/// `quiet` is the moving rule's neighbourhood for this return ([`moving::quiet_radius`]) and `sensor`
-/// the sensor's continuous grid coordinates.
+/// `quiet` is the moving rule's neighbourhood for this return ([`moving::quiet_radius`]), `sensor`
+/// the sensor's continuous grid coordinates, and `appeared` whether a return in the cell appeared
+/// inside the previous frame's range ([`appeared::PreviousBeams::appeared`]).
 pub(crate) fn decide_hit(
     l: &Layers,
     g: &GridGeometry,
     i: usize,
     f: u32,
-    (quiet, sensor): (usize, (f64, f64)),
+    (quiet, sensor, appeared): (usize, (f64, f64), bool),
 ) -> HitDecision {
     if super::evidence::is_active(l.evidence[i]) && l.class[i] != CellClass::Free as u8 {
         return HitDecision::Keep;
@@ -49,6 +51,10 @@ pub(crate) fn decide_hit(
     let class = CellClass::from_code(l.class[i]).unwrap_or(CellClass::Unknown);
     if moving::appeared_in_free_space(l, g, i, f, quiet, sensor) {
         return HitDecision::Set(CellClass::Moving, Rule::Moving);
+    }
+    // The same rule on the ray; walls stay walls (a person brushing past one is seen next to it).
+    if appeared && class != CellClass::Stationary {
+        return HitDecision::Set(CellClass::Moving, Rule::Appeared);
     }
     if movable::retained(class) {
         return HitDecision::MovableUnlessMotion;
@@ -102,7 +108,7 @@ mod tests {
         (g, l)
     }
 
-    const FAR: (usize, (f64, f64)) = (1, (5.0, -1000.0));
+    const FAR: (usize, (f64, f64), bool) = (1, (5.0, -1000.0), false);
 
     #[test]
     fn only_confirmed_motion_comes_to_rest() {
@@ -132,6 +138,23 @@ mod tests {
         // A stationary cell is never continued: walls next to a passer-by stay walls.
         l.class[55] = CellClass::Stationary as u8;
         assert_eq!(decide_hit(&l, &g, 55, 5, FAR), HitDecision::Keep);
+    }
+
+    #[test]
+    fn a_return_that_appeared_on_the_ray_is_moving_unless_it_is_a_wall() {
+        // Invariant: a return the ray rule found appearing is Moving whatever the cell held (unknown,
+        // movable: the movable obstacle is being moved), except in a Stationary cell, which keeps its
+        // class; without the ray rule the same return is not Moving.
+        let (g, mut l) = resting_return_near_motion();
+        l.near_moving[55] = 0;
+        let appeared = (1, (5.0, -1000.0), true);
+        let moving = HitDecision::Set(CellClass::Moving, Rule::Appeared);
+        assert_eq!(decide_hit(&l, &g, 55, 5, appeared), moving);
+        assert_ne!(decide_hit(&l, &g, 55, 5, FAR), moving);
+        l.class[55] = CellClass::Movable as u8;
+        assert_eq!(decide_hit(&l, &g, 55, 5, appeared), moving);
+        l.class[55] = CellClass::Stationary as u8;
+        assert_eq!(decide_hit(&l, &g, 55, 5, appeared), HitDecision::Keep);
     }
 
     #[test]
