@@ -138,8 +138,8 @@ impl GridGeometry {
 
     /// The cell containing map point `p`, or `None` outside the grid (or for a non-finite point).
     pub fn cell_of(&self, p: Point2<f64>) -> Option<CellIndex> {
-        let gx = ((p.x - self.origin.x) / self.resolution).floor();
-        let gy = ((p.y - self.origin.y) / self.resolution).floor();
+        let gx = floor((p.x - self.origin.x) / self.resolution);
+        let gy = floor((p.y - self.origin.y) / self.resolution);
         self.cell_checked(gx, gy)
     }
 
@@ -198,6 +198,24 @@ impl GridGeometry {
         }
     }
 
+    /// Calls `f` with the in-grid linear indices within `r` cells (Chebyshev) of linear index `i`,
+    /// one row's contiguous range at a time.
+    #[inline]
+    pub(crate) fn for_square_rows(
+        &self,
+        i: usize,
+        r: usize,
+        mut f: impl FnMut(std::ops::RangeInclusive<usize>),
+    ) {
+        let (w, h) = (self.width, self.height);
+        let (x, y) = (i % w, i / w);
+        let (x0, x1) = (x.saturating_sub(r), (x + r).min(w - 1));
+        let (y0, y1) = (y.saturating_sub(r), (y + r).min(h - 1));
+        for yy in y0..=y1 {
+            f(yy * w + x0..=yy * w + x1);
+        }
+    }
+
     /// Calls `f` with every in-grid linear index within `r` cells (Chebyshev) of linear index `i`.
     #[inline]
     pub(crate) fn for_square(&self, i: usize, r: usize, mut f: impl FnMut(usize)) {
@@ -211,6 +229,28 @@ impl GridGeometry {
                 f(row + xx);
             }
         }
+    }
+}
+
+/// `x.floor()`, inline: without SSE4.1 the standard one is a library call, and the grid floors
+/// two coordinates per beam end and four per ray. Exact for every `f64` (the integer conversion is
+/// only used where it is exact).
+#[inline]
+pub(crate) fn floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        // |x| < 2⁵²: the truncation is exact, and one below it when x is negative and fractional;
+        // an integer (also −0) is its own floor.
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else if t < x {
+            t
+        } else {
+            x
+        }
+    } else {
+        // Already an integer, infinite or NaN.
+        x
     }
 }
 
@@ -263,5 +303,33 @@ mod tests {
         assert_eq!(g.index(CellIndex::new(2, 3)), Some(3 * 7 + 2));
         assert_eq!(g.index(CellIndex::new(7, 0)), None);
         assert_eq!(g.cell_at(35), None);
+    }
+
+    #[test]
+    fn the_inline_floor_is_the_standard_floor() {
+        // Invariant: floor(x) is bit for bit x.floor(), for integers, halves, tiny and huge values,
+        // both signs, infinities (NaN stays NaN).
+        let mut xs = vec![
+            0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 1e-300, -1e-300, 2.5e15, -2.5e15,
+        ];
+        xs.extend([
+            4.5e15,
+            -4.5e15,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ]);
+        xs.extend((0..1000).map(|k| (k as f64 - 500.0) * 0.37 + 1e-9 * k as f64));
+        xs.extend([
+            f64::MAX,
+            f64::MIN,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+        ]);
+        for x in xs {
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(floor(f64::NAN).is_nan());
     }
 }

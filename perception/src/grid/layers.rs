@@ -1,32 +1,28 @@
 //! The grid's per-cell storage, structure-of-arrays, and the frame-stamped histories the rules read.
 //!
-//! Nothing here is cleared per frame. Each history is a byte of bits (bit k = "happened at frame
+//! Nothing here is cleared per frame. A return history is a byte of bits (bit k = "happened at frame
 //! `stamp − k`") plus the frame stamp of its latest bit; reading it at frame `f` shifts it by
-//! `f − stamp`. So a frame touches only the cells its rays cross and the rules' neighbourhoods.
+//! `f − stamp`. Crossing histories are read the same way from the ring of per-frame bit-planes in
+//! [`VisibleArea`]. So a frame touches only the returns and the rules' neighbourhoods per cell.
 
+use super::visible::VisibleArea;
 use crate::prism::ObjectId;
 
 /// Object slot value for "no object".
 pub(crate) const NO_OBJECT: u32 = u32::MAX;
 
-/// Per-frame bookkeeping of one cell, packed (12 bytes) so that a ray step touches one cache line: the
-/// rules' histories and stamps. (The classes, objects and evidence stay structure-of-arrays.)
+/// Per-frame bookkeeping of one cell's returns, packed (8 bytes) so that a return and its
+/// neighbourhood touch few cache lines. (Crossings live in [`VisibleArea`]; the classes, objects and
+/// evidence stay structure-of-arrays.)
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 pub(crate) struct Track {
     /// Stamp of `hit_bits`/`ts_bits`.
     pub hit_frame: u32,
-    /// Stamp of `free_bits`/`far_bits`.
-    pub free_frame: u32,
     /// Frames with a return in the cell.
     pub hit_bits: u8,
     /// Frames in which the return in the cell was classified temporarily stationary (Tamura 3.3).
     pub ts_bits: u8,
-    /// Frames in which a ray crossed the cell (without ending in it) at least the free gap before its
-    /// return: seen free.
-    pub free_bits: u8,
-    /// Frames in which a ray crossed the cell at least the clear margin before its return.
-    pub far_bits: u8,
 }
 
 /// Per-cell arrays, all of the grid's length, row-major.
@@ -40,8 +36,10 @@ pub(crate) struct Layers {
     pub evidence: Vec<u32>,
     /// Robot-clock stamp of the latest active verdict on the cell (NaN: none).
     pub marked_at: Vec<f64>,
-    /// The rules' per-frame bookkeeping.
+    /// The rules' per-frame bookkeeping of returns.
     pub track: Vec<Track>,
+    /// The last frames' visible areas (crossings).
+    pub visible: VisibleArea,
     /// Frame stamp: the cell lies near a cell that was moving in the previous frame.
     pub near_moving: Vec<u32>,
     /// Frame stamp: the cell lies near a cell whose motion was confirmed in the previous frame.
@@ -65,6 +63,7 @@ impl Layers {
             evidence: vec![0; n],
             marked_at: vec![f64::NAN; n],
             track: vec![Track::default(); n],
+            visible: VisibleArea::new(n),
             near_moving: vec![0; n],
             near_confirmed: vec![0; n],
             confirmed: vec![0; n],
@@ -82,8 +81,7 @@ impl Layers {
 
     /// Robot-clock stamp of the cell's latest observation or verdict (NaN: never).
     pub fn last_seen(&self, i: usize) -> f64 {
-        let t = &self.track[i];
-        let frame = t.hit_frame.max(t.free_frame) as usize;
+        let frame = self.track[i].hit_frame.max(self.visible.last_crossed(i)) as usize;
         let seen = self.stamps.get(frame).copied().unwrap_or(f64::NAN);
         let marked = self.marked_at[i];
         if seen.is_nan() || marked > seen {
@@ -111,15 +109,13 @@ impl Layers {
     /// — the cell was seen free — as seen from frame `f`.
     #[inline]
     pub fn crossed(&self, i: usize, f: u32) -> u8 {
-        let t = &self.track[i];
-        at(t.free_bits, t.free_frame, f)
+        self.visible.free(i, f)
     }
 
     /// Frames in which a ray crossed `i` well before its return, as seen from frame `f`.
     #[inline]
     pub fn crossed_far(&self, i: usize, f: u32) -> u8 {
-        let t = &self.track[i];
-        at(t.far_bits, t.free_frame, f)
+        self.visible.far(i, f)
     }
 
     /// True when `i` holds a return in frame `f`.
@@ -131,7 +127,7 @@ impl Layers {
     /// True when a ray crossed `i` in frame `f` (however close to its return).
     #[inline]
     pub fn crossed_in(&self, i: usize, f: u32) -> bool {
-        self.track[i].free_frame == f
+        self.visible.crossed_in(i, f)
     }
 
     /// Marks this frame's return at `i` as temporarily stationary.
@@ -154,24 +150,10 @@ impl Layers {
         true
     }
 
-    /// Records a ray crossing `i` in frame `f`; true the first time in this frame.
-    #[inline]
-    pub fn record_crossing(&mut self, i: usize, f: u32, how: Crossing) -> bool {
-        let t = &mut self.track[i];
-        let (free, far) = (
-            u8::from(how >= Crossing::Free),
-            u8::from(how == Crossing::Far),
-        );
-        let last = t.free_frame;
-        if last == f {
-            t.free_bits |= free;
-            t.far_bits |= far;
-            return false;
-        }
-        t.free_bits = at(t.free_bits, last, f) | free;
-        t.far_bits = at(t.far_bits, last, f) | far;
-        t.free_frame = f;
-        true
+    /// Records a ray crossing `i` in frame `f` (frames must not go back).
+    #[cfg(test)]
+    pub fn record_crossing(&mut self, i: usize, f: u32, how: Crossing) {
+        self.visible.record(i, f, how);
     }
 }
 
@@ -185,6 +167,20 @@ pub(crate) enum Crossing {
     Free,
     /// At least the clear margin before the return: seen free through and through.
     Far,
+}
+
+impl Crossing {
+    /// The kind as one bit of a cell's level byte (far 1, free 2, near 4): a frame's walks or
+    /// these into a byte per cell, and [`super::visible::VisibleArea::fold_levels`] turns the
+    /// bytes into bit-planes.
+    #[inline]
+    pub(crate) fn level(self) -> u8 {
+        match self {
+            Crossing::Far => 1,
+            Crossing::Free => 2,
+            Crossing::Near => 4,
+        }
+    }
 }
 
 /// History byte `bits` stamped at frame `last`, read at frame `f`.
@@ -219,7 +215,8 @@ mod tests {
         l.record_crossing(0, 4, Crossing::Near);
         assert_eq!((l.crossed(0, 4), l.crossed_far(0, 4)), (0b100, 0b100));
         assert_eq!(
-            l.track[0].free_frame, 4,
+            l.visible.last_crossed(0),
+            4,
             "a near crossing still renews the age"
         );
     }

@@ -74,11 +74,16 @@
 //!
 //! # Speed
 //! Classes, objects and evidence are structure-of-arrays (the class codes are the raw recording
-//! slice); the rules' per-frame bookkeeping is one 16-byte record per cell so a ray step touches one
-//! cache line. Histories are frame-stamped bit bytes and a cell's last observation is its latest frame
-//! number (looked up in a per-frame stamp table), so nothing is cleared or swept per frame: an update
-//! costs O(cells crossed + returns × neighbourhood), plus O(beams · log beams) for the ray rule's
-//! previous frame ordered by bearing (a few per cent of a laser update).
+//! slice). A ray step writes one byte: it ors its crossing kind into a per-cell level byte. Once all
+//! rays are in, the bytes of the box of cells the walks spanned are folded, eight cells at a time,
+//! into the frame's bit-planes (`visible.rs`: a ring of the last four frames' far / free / near
+//! crossings, which is all the rules read of crossings), and the crossed cells that are not free are
+//! listed by masking each 64-cell word with its 64 class bytes at once: free space seen free again
+//! costs its bits and nothing per cell. Returns keep an 8-byte frame-stamped record per cell (hit and
+//! temporarily stationary bit bytes); a cell's last observation is its latest frame number (looked
+//! up in a per-frame stamp table), with crossings older than the ring kept per cell when a slot is
+//! reused. So an update costs O(ray steps + cells in the walks' box / 8 + returns × neighbourhood),
+//! plus O(beams · log beams) for the ray rule's previous frame ordered by bearing.
 
 mod active;
 mod class;
@@ -92,6 +97,7 @@ mod raster;
 pub mod rules;
 mod traversal;
 mod update;
+mod visible;
 mod watch;
 
 use std::collections::HashMap;

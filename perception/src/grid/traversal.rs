@@ -13,7 +13,8 @@
 
 use nalgebra::Point2;
 
-use super::geometry::{CellIndex, GridGeometry};
+use super::geometry::{CellIndex, GridGeometry, floor};
+use super::layers::Crossing;
 
 /// One visited cell and the segment parameter (0 at the start, 1 at the end) where the segment leaves it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,14 +83,14 @@ impl Traversal {
         let (sx, sy) = (ax + t0 * dx, ay + t0 * dy);
         let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
         let start = |s: f64, d: f64, n: f64| -> i64 {
-            let f = s.floor();
+            let f = floor(s);
             let c = if d < 0.0 && f == s { f - 1.0 } else { f };
             c.clamp(0.0, n - 1.0) as i64
         };
         let x = start(sx, dx, w);
         let y = start(sy, dy, h);
-        let end_x = ex.floor().clamp(0.0, w - 1.0) as i64;
-        let end_y = ey.floor().clamp(0.0, h - 1.0) as i64;
+        let end_x = floor(ex).clamp(0.0, w - 1.0) as i64;
+        let end_y = floor(ey).clamp(0.0, h - 1.0) as i64;
         let axis = |c: i64, d: f64, a: f64| -> (i64, f64, f64) {
             if d > 0.0 {
                 (1, ((c + 1) as f64 - a) / d, 1.0 / d)
@@ -117,6 +118,197 @@ impl Traversal {
             remaining,
         }
     }
+}
+
+/// Where along a beam (segment parameter, 0..1) its cells change kind, by their exit parameter:
+/// up to `seen` not seen at all, up to `far` crossed far before the return, up to `free` crossed free,
+/// beyond that crossed near the return.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cuts {
+    pub seen: f64,
+    pub free: f64,
+    pub far: f64,
+}
+
+impl Cuts {
+    #[inline]
+    pub(crate) fn kind(&self, t_exit: f64) -> Option<Crossing> {
+        if t_exit <= self.seen {
+            None
+        } else if t_exit <= self.far {
+            Some(Crossing::Far)
+        } else if t_exit <= self.free {
+            Some(Crossing::Free)
+        } else {
+            Some(Crossing::Near)
+        }
+    }
+
+    /// [`Self::kind`] as a level bit ([`Crossing::level`]; 0 for an unseen cell).
+    #[inline]
+    pub(crate) fn level(&self, t_exit: f64) -> u8 {
+        self.kind(t_exit).map_or(0, Crossing::level)
+    }
+
+    /// The smallest cut at or after `t` (infinite if none): [`Self::kind`] is the same for every
+    /// exit parameter from `t` up to it.
+    #[inline]
+    fn next(&self, t: f64) -> f64 {
+        [self.seen, self.far, self.free]
+            .into_iter()
+            .filter(|&c| c >= t)
+            .fold(f64::INFINITY, |a, c| if c < a { c } else { a })
+    }
+}
+
+impl Traversal {
+    /// Walks the same cells as the iterator, stopping before `stop` if it comes, and calls
+    /// `cell(i, level)` for each with its linear index and [`Cuts::level`] (0 for an unseen cell).
+    /// Cells outside the grid end the walk. Returns the linear indices of the first and last cell
+    /// walked, if any (the last may be one step further, still in the grid, when floating point
+    /// ends the walk early): the cells' columns and rows run monotonically between them.
+    ///
+    /// The kind is monotone along the ray, so it is only re-evaluated once the exit parameter passes
+    /// the next cut. In the common case — the stop cell, if any, is the end cell, and the end cell
+    /// lies inside the grid's border — a step checks nothing else: the step budget alone says when
+    /// the walk is at its last cell (each step towards the end cell spends one, a corner two), and
+    /// the walk cannot leave the grid. The step itself is the iterator's, with the segment
+    /// parameters in fixed point (2⁻⁵² units, saturated far beyond 1): integer comparisons.
+    pub(crate) fn for_each_cell(
+        self,
+        geom: &GridGeometry,
+        stop: Option<CellIndex>,
+        cuts: &Cuts,
+        mut cell: impl FnMut(usize, u8),
+    ) -> Option<(usize, usize)> {
+        let (w, h) = (geom.width() as i64, geom.height() as i64);
+        let (ex, ey) = (self.end_x, self.end_y);
+        let interior = |x: i64, y: i64, m: i64| x >= m && y >= m && x < w - m && y < h - m;
+        let stop_at_end = stop.is_none_or(|c| (i64::from(c.x), i64::from(c.y)) == (ex, ey));
+        if self.remaining == 0
+            || !stop_at_end
+            || !interior(ex, ey, 2)
+            || !interior(self.x, self.y, 0)
+        {
+            return self.for_each_cell_checked(geom, stop, cuts, cell);
+        }
+        let (dix, diy) = (self.step_x, self.step_y * w);
+        let t_end = self.t_end;
+        let mut i = self.y * w + self.x;
+        let first = i;
+        let mut remaining = self.remaining;
+        let (mut a, mut b) = (fixed(self.t_max_x), fixed(self.t_max_y));
+        let (da, db) = (fixed(self.t_delta_x), fixed(self.t_delta_y));
+        let eps = fixed(CORNER_EPS);
+        let exit = |a: i64, b: i64| {
+            let ab = a.min(b) as f64 / ONE;
+            if ab < t_end { ab } else { t_end }
+        };
+        // The level holds until the exit parameter passes `cut`; min(a, b, t_end) > cut is tested
+        // as a > cut && b > cut, with cuts at or beyond t_end never passed.
+        let fold = |c: f64| if c < t_end { fixed(c) } else { i64::MAX };
+        let t0 = exit(a, b);
+        let (mut level, mut cut) = (cuts.level(t0), fold(cuts.next(t0)));
+        while remaining > 1 {
+            if a > cut && b > cut {
+                let t = exit(a, b);
+                (level, cut) = (cuts.level(t), fold(cuts.next(t)));
+            }
+            cell(i as usize, level);
+            remaining -= 1;
+            if a < b - eps {
+                i += dix;
+                a += da;
+            } else if b < a - eps {
+                i += diy;
+                b += db;
+            } else {
+                // Through a corner: one diagonal step covers two boundaries.
+                i += dix + diy;
+                a += da;
+                b += db;
+                remaining -= 1;
+            }
+        }
+        // The last cell: the end cell (not walked if it is the stop cell), or where the budget ran
+        // out if floating point stepped past it.
+        let end = ey * w + ex;
+        if remaining == 1 && !(i == end && stop.is_some()) {
+            let t = if i == end { t_end.max(0.0) } else { exit(a, b) };
+            cell(i as usize, cuts.level(t));
+        }
+        Some((first as usize, i as usize))
+    }
+
+    /// [`Self::for_each_cell`] for any walk: every step checks the stop cell, the end cell and the
+    /// grid's bounds.
+    fn for_each_cell_checked(
+        mut self,
+        geom: &GridGeometry,
+        stop: Option<CellIndex>,
+        cuts: &Cuts,
+        mut cell: impl FnMut(usize, u8),
+    ) -> Option<(usize, usize)> {
+        let (w, h) = (geom.width() as i64, geom.height() as i64);
+        let stop = stop.map_or(-1, |c| i64::from(c.y) * w + i64::from(c.x));
+        let end = self.end_y * w + self.end_x;
+        let t_end = self.t_end;
+        let (mut first, mut last) = (None, None);
+        while self.remaining > 0 && (0..w).contains(&self.x) && (0..h).contains(&self.y) {
+            let i = self.y * w + self.x;
+            if i == stop {
+                break;
+            }
+            let at_end = i == end;
+            let t_exit = if at_end {
+                t_end.max(0.0)
+            } else {
+                let (a, b) = (self.t_max_x, self.t_max_y);
+                let ab = if a < b { a } else { b };
+                if ab < t_end { ab } else { t_end }
+            };
+            cell(i as usize, cuts.level(t_exit));
+            first = first.or(Some(i as usize));
+            last = Some(i as usize);
+            if at_end {
+                break;
+            }
+            self.remaining -= 1;
+            self.step();
+        }
+        first.zip(last)
+    }
+
+    /// One Amanatides–Woo step to the next cell.
+    #[inline]
+    fn step(&mut self) {
+        let (a, b) = (self.t_max_x, self.t_max_y);
+        // Segment parameters live in [0, 1], so an absolute tolerance decides corner crossings.
+        if a < b - CORNER_EPS {
+            self.x += self.step_x;
+            self.t_max_x += self.t_delta_x;
+        } else if b < a - CORNER_EPS {
+            self.y += self.step_y;
+            self.t_max_y += self.t_delta_y;
+        } else {
+            // Through a corner: one diagonal step covers two boundaries.
+            self.x += self.step_x;
+            self.t_max_x += self.t_delta_x;
+            self.y += self.step_y;
+            self.t_max_y += self.t_delta_y;
+            self.remaining = self.remaining.saturating_sub(1);
+        }
+    }
+}
+
+/// One in the walk's fixed point.
+const ONE: f64 = (1_u64 << 52) as f64;
+
+/// A non-negative segment parameter in fixed point, saturated at 2⁶⁰ (far beyond the segment's 1:
+/// such a boundary is never crossed, and sums of two stay in range).
+fn fixed(t: f64) -> i64 {
+    const MAX: f64 = (1_u64 << 60) as f64;
+    if t < MAX { (t * ONE) as i64 } else { 1 << 60 }
 }
 
 /// Liang–Barsky clip of `a + t·d`, t ∈ [0,1], to the box [0,w]×[0,h]; `None` when nothing is inside.
@@ -156,23 +348,11 @@ impl Iterator for Traversal {
             });
         }
         self.remaining -= 1;
+        // Compare-and-select rather than `f64::min`, whose NaN handling costs: nothing here is NaN.
         let (a, b) = (self.t_max_x, self.t_max_y);
-        let t_exit = a.min(b).min(self.t_end);
-        // Segment parameters live in [0, 1], so an absolute tolerance decides corner crossings.
-        if a < b - CORNER_EPS {
-            self.x += self.step_x;
-            self.t_max_x += self.t_delta_x;
-        } else if b < a - CORNER_EPS {
-            self.y += self.step_y;
-            self.t_max_y += self.t_delta_y;
-        } else {
-            // Through a corner: one diagonal step covers two boundaries.
-            self.x += self.step_x;
-            self.t_max_x += self.t_delta_x;
-            self.y += self.step_y;
-            self.t_max_y += self.t_delta_y;
-            self.remaining = self.remaining.saturating_sub(1);
-        }
+        let ab = if a < b { a } else { b };
+        let t_exit = if ab < self.t_end { ab } else { self.t_end };
+        self.step();
         Some(RayCell { cell, t_exit })
     }
 }
@@ -287,6 +467,85 @@ mod tests {
                     "{ax} {ay} {bx} {by}: {v:?}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn the_cell_walk_gives_exactly_the_iterators_cells_with_their_kinds() {
+        // Invariant: for_each_cell reports the iterator's in-grid cells up to (not including) the stop
+        // cell, each once, with the kind of its own exit parameter, within the box of the cells it returns.
+        let geom =
+            GridGeometry::with_cells(nalgebra::Point2::new(0.0, 0.0), 40, 30, 1.0).expect("valid");
+        let mut s = 0x9e37_79b9_u64;
+        let mut r = |m: f64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % 100_000) as f64 / 100_000.0 * m
+        };
+        for n in 0..20_000 {
+            let a = if n % 11 == 0 {
+                Point2::new(r(40.0).round() * 0.5, r(30.0).round() * 0.5)
+            } else {
+                Point2::new(r(50.0) - 5.0, r(40.0) - 5.0)
+            };
+            // Some rays axis-aligned, from or to cell corners (also on the grid's border), most
+            // anywhere.
+            let b = match n % 5 {
+                0 => Point2::new(a.x + r(20.0) - 10.0, a.y),
+                1 => Point2::new((a.x + 7.0).floor(), (a.y + 7.0).floor()),
+                2 if n % 7 == 0 => Point2::new((r(60.0) - 10.0).round(), (r(50.0) - 10.0).round()),
+                3 => Point2::new(
+                    a.x + (r(20.0) - 10.0).round(),
+                    a.y + (r(20.0) - 10.0).round(),
+                ),
+                _ => Point2::new(r(50.0) - 5.0, r(40.0) - 5.0),
+            };
+            let cuts = Cuts {
+                seen: r(0.4) - 0.1,
+                free: r(1.2),
+                far: r(1.2),
+            };
+            let all: Vec<RayCell> = Traversal::new(&geom, a, b).collect();
+            let stop = (n % 3 == 0)
+                .then(|| all.get(all.len() * 2 / 3).map(|c| c.cell))
+                .flatten();
+            let mut expected: Vec<(usize, Option<Crossing>)> = all
+                .iter()
+                .take_while(|c| Some(c.cell) != stop)
+                // Float drift can carry the iterator one step out of the grid at the very end.
+                .filter(|c| c.cell.x < 40 && c.cell.y < 30)
+                .map(|c| {
+                    (
+                        c.cell.y as usize * 40 + c.cell.x as usize,
+                        cuts.kind(c.t_exit),
+                    )
+                })
+                .filter(|(_, k)| k.is_some())
+                .collect();
+            expected.sort_by_key(|e| e.0);
+            let mut got = Vec::new();
+            let rows = Traversal::new(&geom, a, b).for_each_cell(&geom, stop, &cuts, |i, level| {
+                if level != 0 {
+                    let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
+                    got.push((i, kinds.into_iter().find(|k| k.level() == level)));
+                }
+            });
+            if let Some((first, last)) = rows {
+                let span = |f: fn(usize) -> usize| {
+                    let (a, b) = (f(first), f(last));
+                    a.min(b)..=a.max(b)
+                };
+                let (cols, rows) = (span(|i| i % 40), span(|i| i / 40));
+                assert!(
+                    got.iter()
+                        .all(|(i, _)| cols.contains(&(i % 40)) && rows.contains(&(i / 40)))
+                );
+            } else {
+                assert!(got.is_empty());
+            }
+            got.sort_by_key(|e| e.0);
+            assert_eq!(got, expected, "{a:?} -> {b:?}, {cuts:?}, stop {stop:?}");
         }
     }
 }

@@ -3,9 +3,12 @@
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{BeamEnd, RangeFrame};
-use super::layers::{Crossing, NO_OBJECT};
+#[cfg(doc)]
+use super::layers::Crossing;
+use super::layers::NO_OBJECT;
 use super::rules::{self, HitDecision, free_space, movable, moving};
-use super::traversal::Traversal;
+use super::traversal::{Cuts, Traversal};
+use super::visible::CellBox;
 use super::{GridError, ObstacleGrid};
 
 const FREE: u8 = CellClass::Free as u8;
@@ -22,13 +25,10 @@ pub(crate) struct Scratch {
     new_moving: Vec<u32>,
     /// Cells something left this frame (see `stamp_vacated`).
     vacated: Vec<u32>,
-    /// This frame's visible area as a bitmap (bit `i % 64` of word `i / 64` is cell `i`): [crossed,
-    /// crossed at least the free gap before the return, crossed well before it]. The walk only sets bits here, in an array small enough to stay
-    /// in cache (an eighth of a byte per cell where the cells' histories take twelve); each crossed
-    /// cell's history is then updated once, in row-major order. All zero between frames.
-    seen: Vec<[u64; 3]>,
-    /// The first and last row this frame's walks visited (rows bound the bitmap words to fold).
-    rows: Option<(usize, usize)>,
+    /// The frame's crossings as they are walked: per cell, the or of the [`Crossing::level`]s of
+    /// the rays that crossed it. A byte a cell, so that a step's write never waits on the one
+    /// before (bits of one word would); folded into bit-planes, and zeroed, once all rays are in.
+    level: Vec<u8>,
 }
 
 impl ObstacleGrid {
@@ -72,16 +72,18 @@ impl ObstacleGrid {
         let step = mean_beam_step(frame);
         let (margin, gap) = (self.cfg.clear_margin, self.cfg.free_gap);
         let tail = self.cfg.clear_tail;
-        let width = self.geom.width();
-        let n_words = self.geom.len().div_ceil(64);
-        if s.seen.len() != n_words {
-            s.seen = vec![[0; 3]; n_words];
-        }
-        s.rows = None;
+        let geom = &self.geom;
+        let width = geom.width();
         let l = &mut self.layers;
+        l.visible.begin(f);
+        if s.level.len() != geom.len() {
+            s.level = vec![0; geom.len()];
+        }
+        // The cells the walks may have visited.
+        let mut walked = CellBox::EMPTY;
         for beam in frame.beams() {
             let hit_cell = match beam.kind {
-                BeamEnd::Hit => self.geom.cell_of(beam.end),
+                BeamEnd::Hit => geom.cell_of(beam.end),
                 BeamEnd::Clear => None,
             };
             // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The end of a
@@ -115,79 +117,43 @@ impl ObstacleGrid {
             } else {
                 0.0
             };
-            let seen = s.seen.as_mut_slice();
-            let mut rows = None;
-            for rc in Traversal::new(&self.geom, sensor, end) {
-                if Some(rc.cell) == hit_cell {
-                    break;
+            let cuts = Cuts {
+                seen: t_seen,
+                free: t_free,
+                far: t_far,
+            };
+            let walk = Traversal::new(geom, sensor, end);
+            let level = s.level.as_mut_slice();
+            if let Some((a, b)) = walk.for_each_cell(geom, hit_cell, &cuts, |i, bit| {
+                if let Some(v) = level.get_mut(i) {
+                    *v |= bit;
                 }
-                if rc.t_exit <= t_seen {
-                    continue;
-                }
-                let i = rc.cell.y as usize * width + rc.cell.x as usize;
-                if let Some(word) = seen.get_mut(i >> 6) {
-                    let bit = 1u64 << (i & 63);
-                    word[0] |= bit;
-                    word[1] |= if rc.t_exit <= t_free { bit } else { 0 };
-                    word[2] |= if rc.t_exit <= t_far { bit } else { 0 };
-                }
-                rows = Some(rows.map_or((rc.cell.y, rc.cell.y), |(a, _)| (a, rc.cell.y)));
-            }
-            if let Some((a, b)) = rows {
-                let (a, b) = (a as usize, b as usize);
-                let rows = (a.min(b), a.max(b));
-                s.rows = Some(
-                    s.rows
-                        .map_or(rows, |(lo, hi)| (lo.min(rows.0), hi.max(rows.1))),
-                );
+            }) {
+                walked = walked.union(CellBox::spanned(width, a, b));
             }
             // The return's cell, even if floating point made the walk end a cell short of it.
             if let Some(c) = hit_cell {
                 let i = c.y as usize * width + c.x as usize;
                 if l.record_hit(i, f) {
                     s.hits.push(i as u32);
-                    let r = moving::quiet_radius(len, step, self.geom.resolution());
+                    let r = moving::quiet_radius(len, step, geom.resolution());
                     s.quiet.push(r as u8);
                 }
             }
         }
-        self.record_crossings(s);
-    }
-
-    /// Folds the frame's visible-area bitmaps into the cells' histories (once per crossed cell, in
-    /// row-major order, however many rays crossed it) and lists the crossed cells that are not free
-    /// for classification; leaves the bitmaps zeroed.
-    fn record_crossings(&mut self, s: &mut Scratch) {
-        let f = self.frame;
+        // The crossed cells that are not free, for classification, in row-major order (free cells
+        // seen free again need nothing: their crossings are recorded as bits).
         s.crossed.clear();
-        let Some((lo, hi)) = s.rows else {
-            return;
-        };
-        let (width, n) = (self.geom.width(), self.geom.len());
-        let words = lo * width / 64..((hi + 1) * width).div_ceil(64).min(s.seen.len());
-        let l = &mut self.layers;
-        for k in words {
-            let [mut bits, free, far] = std::mem::take(&mut s.seen[k]);
+        let class = l.class.as_slice();
+        let crossed = &mut s.crossed;
+        l.visible.fold_levels(f, &mut s.level, walked, |k, bits| {
+            let base = k * 64;
+            let mut bits = bits & not_free(class, base);
             while bits != 0 {
-                let b = bits.trailing_zeros();
+                crossed.push((base + bits.trailing_zeros() as usize) as u32);
                 bits &= bits - 1;
-                let i = k * 64 + b as usize;
-                if i >= n {
-                    break;
-                }
-                // Free cells seen free again need no classification: only list the others.
-                let how = if far >> b & 1 != 0 {
-                    Crossing::Far
-                } else if free >> b & 1 != 0 {
-                    Crossing::Free
-                } else {
-                    Crossing::Near
-                };
-                if l.record_crossing(i, f, how) && l.class[i] != FREE {
-                    s.crossed.push(i as u32);
-                }
             }
-        }
+        });
     }
 
     /// Stamps the neighbourhood (`moving_step`) of last frame's moving cells.
@@ -370,6 +336,32 @@ impl ObstacleGrid {
     }
 }
 
+/// Bit j set when cell `base + j` is in the grid and not free.
+#[inline]
+fn not_free(class: &[u8], base: usize) -> u64 {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+    let Some(cells) = class.get(base..base + 64) else {
+        // The grid's last, partial word.
+        return class
+            .iter()
+            .skip(base)
+            .enumerate()
+            .fold(0, |m, (j, &c)| m | u64::from(c != FREE) << j);
+    };
+    // Eight cells at a time: a byte of `v ^ FREE·ONES` is non-zero exactly when its cell is not free;
+    // its top bit after the carry-free test below, gathered by one multiplication.
+    let mut m = 0u64;
+    for (q, chunk) in cells.chunks_exact(8).enumerate() {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(chunk);
+        let x = u64::from_le_bytes(b) ^ (ONES * u64::from(FREE));
+        let high = (((x & LOW7) + LOW7) | x) & !LOW7;
+        m |= ((high >> 7).wrapping_mul(0x0102_0408_1020_4080) >> 56) << (8 * q);
+    }
+    m
+}
+
 /// The mean angle (rad) between consecutive beams of `frame`, which come in bearing order from a
 /// scanner or a camera's columns; 0 for fewer than two beams. Missing columns only widen it, which
 /// widens the moving rule's quiet neighbourhood: the safe side.
@@ -428,5 +420,58 @@ mod tests {
             Some(1.0),
             "a near crossing still renews the cell's age"
         );
+    }
+
+    #[test]
+    fn a_cell_keeps_its_last_crossing_after_the_ring_moves_on() {
+        // Invariant: last_seen is the stamp of the latest frame whose rays crossed the cell, also
+        // when that frame is older than the ring of recent visible areas.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 20, 3, 0.05).expect("valid");
+        let cfg = GridConfig {
+            clear_tail: 0.0,
+            ..GridConfig::default()
+        };
+        let mut grid = ObstacleGrid::new(geom, cfg);
+        let sensor = Point2::new(0.025, 0.075);
+        for k in 1..=9 {
+            let mut frame = RangeFrame::new(sensor).expect("finite");
+            // The first frame sees to cell 16, later ones only to cell 5.
+            let x = if k == 1 { 0.825 } else { 0.275 };
+            frame.push_hit(Point2::new(x, 0.075));
+            grid.update(&frame, f64::from(k)).expect("in order");
+        }
+        let seen = |x| grid.cell(CellIndex::new(x, 1)).expect("in grid").last_seen;
+        assert_eq!(seen(10), Some(1.0));
+        assert_eq!(seen(2), Some(9.0));
+        assert_eq!(seen(0), Some(9.0), "the sensor's own cell is crossed");
+        assert_eq!(
+            grid.cell(CellIndex::new(10, 0)).expect("in grid").last_seen,
+            None
+        );
+    }
+
+    #[test]
+    fn the_not_free_mask_matches_the_classes() {
+        // Invariant: bit j of not_free(class, base) is set iff cell base + j exists and is not Free.
+        let mut s = 0x1234_5678_u64;
+        let class: Vec<u8> = (0..1000)
+            .map(|_| {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                // Mostly free, as in a seen room; every code, and bytes with the top bit set.
+                match s % 10 {
+                    0..=5 => FREE,
+                    6 => (s >> 8) as u8,
+                    n => (n - 7) as u8 * 2,
+                }
+            })
+            .collect();
+        for base in (0..1000).step_by(64) {
+            let want = (0..64).fold(0u64, |m, j| {
+                m | u64::from(class.get(base + j).is_some_and(|&c| c != FREE)) << j
+            });
+            assert_eq!(not_free(&class, base), want, "word at {base}");
+        }
     }
 }

@@ -46,8 +46,11 @@ pub(crate) const EXTENSION_REACH: usize = 3;
 /// across a cell boundary along its face — cannot turn into a wall.
 pub(crate) fn touches_movable(l: &Layers, g: &GridGeometry, i: usize) -> bool {
     let mut near = false;
-    g.for_square(i, EXTENSION_REACH, |j| {
-        near |= l.class[j] == CellClass::Movable as u8
+    g.for_square_rows(i, EXTENSION_REACH, |row| {
+        near |= l
+            .class
+            .get(row)
+            .is_some_and(|c| c.contains(&(CellClass::Movable as u8)));
     });
     near
 }
