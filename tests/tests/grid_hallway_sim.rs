@@ -9,7 +9,9 @@
 //! and Chen): ≥ 98 % of the returns on moving things called Moving; under 1 % of the wall cells ever
 //! called anything but Stationary or Unknown; the resting suitcase becomes Movable and never
 //! Stationary; once it is taken away its cells are no longer Movable. `HALLWAY_MISSES=1` prints
-//! every return whose Moving call disagrees with the truth.
+//! every return whose Moving call disagrees with the truth; `HALLWAY_SEED=N` walks another noise seed
+//! (the goals are met on the scenario's seed 1; seed 4 reads 96.39 % and 8 wall cells Movable, where
+//! grazed wall returns near the range limit drop out and come back).
 
 use std::collections::HashSet;
 
@@ -267,7 +269,12 @@ const WALLS_WRONG_GOAL: f64 = 0.01;
 #[test]
 fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
     // Invariant: walking Tamura's hallway, at least 98 % of the returns on moving things are called Moving, under 1 % of wall cells are ever misclassified, the resting suitcase becomes Movable and is never Stationary, and its cells are deleted once it is taken.
-    let run = run_hallway(1);
+    // `HALLWAY_SEED=N` walks another noise seed, for diagnosis (the goals hold for the scenario's).
+    let seed = std::env::var("HALLWAY_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let run = run_hallway(seed);
     println!("{}", run.returns.table("returns (Tamura's data points):"));
     println!(
         "{}",
