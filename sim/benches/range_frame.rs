@@ -54,12 +54,7 @@ fn room() -> Room {
         world,
         surfaces: HashMap::new(),
     };
-    let plain = |colour, owner| Surface {
-        colour,
-        texture: Texture::Plain,
-        owner,
-        legs_from: None,
-    };
+    let plain = |colour, owner| Surface::new(colour, Texture::Plain, owner);
     let wall = [225, 222, 210];
     let fixed_at =
         |x: f32, y: f32, z: f32| RigidBodyBuilder::fixed().translation(Vector::new(x, y, z));
@@ -88,12 +83,7 @@ fn room() -> Room {
     room.add(
         RigidBodyBuilder::dynamic().translation(Vector::new(3.0, 1.8, 0.0)),
         ColliderBuilder::compound(table),
-        Surface {
-            colour: [140, 90, 50],
-            texture: Texture::Stripes,
-            owner: Owner::Object(0),
-            legs_from: None,
-        },
+        Surface::new([140, 90, 50], Texture::Stripes, Owner::Object(0)),
     );
 
     // Chairs 0.5 × 0.5, seat at 0.45 m, back up to 0.85 m on the +x side.
@@ -104,12 +94,7 @@ fn room() -> Room {
         room.add(
             RigidBodyBuilder::dynamic().translation(Vector::new(3.8, y, 0.0)),
             ColliderBuilder::compound(chair),
-            Surface {
-                colour: [60, 90, 200],
-                texture: Texture::Checker,
-                owner: Owner::Object(i),
-                legs_from: None,
-            },
+            Surface::new([60, 90, 200], Texture::Checker, Owner::Object(i)),
         );
     }
 

@@ -246,12 +246,7 @@ impl Actor {
             .insert_with_parent(collider, body, &mut physics.bodies);
         surfaces.insert(
             ch,
-            Surface {
-                colour: ACTOR_COLOUR,
-                texture: Texture::Plain,
-                owner: Owner::Actor(index),
-                legs_from: None,
-            },
+            Surface::new(ACTOR_COLOUR, Texture::Plain, Owner::Actor(index)),
         );
         let carried = match &spec.carries {
             None => None,

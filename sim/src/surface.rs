@@ -134,12 +134,7 @@ mod tests {
     use super::*;
 
     fn surface(texture: Texture) -> Surface {
-        Surface {
-            colour: [200, 100, 50],
-            texture,
-            owner: Owner::Object(0),
-            legs_from: None,
-        }
+        Surface::new([200, 100, 50], texture, Owner::Object(0))
     }
 
     #[test]

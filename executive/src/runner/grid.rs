@@ -4,7 +4,8 @@
 
 use nalgebra::{Point2, Vector2};
 use nudge_perception::grid::{
-    CellClass, Evidence, Footprint, GridGeometry, ObstacleGrid, RangeFrame, Verdict as GridVerdict,
+    CellClass, CellIndex, Evidence, Footprint, GridGeometry, ObstacleGrid, RangeFrame,
+    Verdict as GridVerdict,
 };
 use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
 
@@ -81,31 +82,42 @@ pub(crate) fn moving_obstacles(
     out
 }
 
+/// The cells of the box around `prism`'s footprint grown by `grow` cells, clamped into the grid, row
+/// by row; `None` for an empty footprint.
+fn footprint_box(
+    geometry: &GridGeometry,
+    prism: &Prism,
+    grow: f64,
+) -> Option<impl Iterator<Item = CellIndex>> {
+    let (lo, hi) = prism.footprint.iter().fold(None, |acc, p| match acc {
+        None => Some((*p, *p)),
+        Some((lo, hi)) => Some((p.inf(&lo), p.sup(&hi))),
+    })?;
+    let r = geometry.resolution();
+    let o = geometry.origin();
+    let far = Point2::new(
+        o.x + (geometry.width() as f64 - 0.5) * r,
+        o.y + (geometry.height() as f64 - 0.5) * r,
+    );
+    let clamp = |p: Point2<f64>| geometry.cell_of(p.sup(&o).inf(&far));
+    let grow = nalgebra::Vector2::repeat(grow * r);
+    let (a, b) = (clamp(lo - grow)?, clamp(hi + grow)?);
+    Some((a.y..=b.y).flat_map(move |y| (a.x..=b.x).map(move |x| CellIndex::new(x, y))))
+}
+
 /// Share of the cells under `prism`'s footprint that the passive rules call Movable.
 pub(crate) fn passive_movable_share(grid: &ObstacleGrid, prism: &Prism) -> f64 {
     let geometry = grid.geometry();
-    let Some((lo, hi)) = prism.footprint.iter().fold(None, |acc, p| match acc {
-        None => Some((*p, *p)),
-        Some((lo, hi)) => Some((p.inf(&lo), p.sup(&hi))),
-    }) else {
-        return 0.0;
-    };
-    let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+    let Some(cells) = footprint_box(geometry, prism, 0.0) else {
         return 0.0;
     };
     let (mut inside, mut movable) = (0usize, 0usize);
-    for y in a.y..=b.y {
-        for x in a.x..=b.x {
-            let cell = nudge_perception::grid::CellIndex::new(x, y);
-            if !prism.contains_xy(&geometry.centre(cell)) {
-                continue;
-            }
-            inside += 1;
-            if grid.cell(cell).is_some_and(|c| {
-                c.class == CellClass::Movable && matches!(c.evidence, Evidence::Passive(_))
-            }) {
-                movable += 1;
-            }
+    for cell in cells.filter(|c| prism.contains_xy(&geometry.centre(*c))) {
+        inside += 1;
+        if grid.cell(cell).is_some_and(|c| {
+            c.class == CellClass::Movable && matches!(c.evidence, Evidence::Passive(_))
+        }) {
+            movable += 1;
         }
     }
     if inside == 0 {
@@ -276,23 +288,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let since = self.robot.now() - self.config.grid.mover_memory;
         let geometry = grid.geometry();
         let r = geometry.resolution();
-        let Some((lo, hi)) = prism.footprint.iter().fold(None, |acc, p| match acc {
-            None => Some((*p, *p)),
-            Some((lo, hi)) => Some((p.inf(&lo), p.sup(&hi))),
-        }) else {
-            return false;
-        };
-        // The footprint's box grown by a cell, clamped into the grid.
-        let clamp = |p: Point2<f64>| {
-            let o = geometry.origin();
-            let far = Point2::new(
-                o.x + (geometry.width() as f64 - 0.5) * r,
-                o.y + (geometry.height() as f64 - 0.5) * r,
-            );
-            geometry.cell_of(p.sup(&o).inf(&far))
-        };
-        let grow = nalgebra::Vector2::repeat(r);
-        let (Some(a), Some(b)) = (clamp(lo - grow), clamp(hi + grow)) else {
+        let Some(mut cells) = footprint_box(geometry, prism, 1.0) else {
             return false;
         };
         // A cell is near when its centre, or the centre of a neighbour, lies in the footprint.
@@ -303,12 +299,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     .any(|&dy| prism.contains_xy(&Point2::new(c.x + dx, c.y + dy)))
             })
         };
-        (a.y..=b.y).any(|y| {
-            (a.x..=b.x).any(|x| {
-                let i = y as usize * geometry.width() + x as usize;
-                self.world.last_motion.get(i).is_some_and(|&t| t >= since)
-                    && near(geometry.centre(nudge_perception::grid::CellIndex::new(x, y)))
-            })
+        cells.any(|cell| {
+            geometry
+                .index(cell)
+                .and_then(|i| self.world.last_motion.get(i))
+                .is_some_and(|&t| t >= since)
+                && near(geometry.centre(cell))
         })
     }
 

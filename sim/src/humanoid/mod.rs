@@ -97,12 +97,7 @@ impl Humanoid {
             spec.start[2].to_radians(),
         );
         let arm = Arm::default();
-        let surface = Surface {
-            colour: ROBOT_COLOUR,
-            texture: Texture::Plain,
-            owner: Owner::Robot,
-            legs_from: None,
-        };
+        let surface = Surface::new(ROBOT_COLOUR, Texture::Plain, Owner::Robot);
 
         let body = physics.bodies.insert(
             RigidBodyBuilder::kinematic_position_based()

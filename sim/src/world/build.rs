@@ -68,12 +68,7 @@ pub fn build_room(
     let fh = colliders.insert(floor);
     surfaces.insert(
         fh,
-        Surface {
-            colour: room.floor_colour,
-            texture: Texture::Plain,
-            owner: Owner::Floor,
-            legs_from: None,
-        },
+        Surface::new(room.floor_colour, Texture::Plain, Owner::Floor),
     );
     // Walls stand outside the room so its inside is exactly [0, sx] × [0, sy].
     let walls = [
@@ -106,12 +101,7 @@ pub fn build_room(
         let wh = colliders.insert(wall);
         surfaces.insert(
             wh,
-            Surface {
-                colour: room.wall_colour,
-                texture: Texture::Plain,
-                owner: Owner::Wall,
-                legs_from: None,
-            },
+            Surface::new(room.wall_colour, Texture::Plain, Owner::Wall),
         );
     }
 }

@@ -72,15 +72,8 @@ impl TestScene {
         let (b, c) = self
             .world
             .insert(body, ColliderBuilder::cuboid(half[0], half[1], half[2]));
-        self.surfaces.insert(
-            c,
-            Surface {
-                colour,
-                texture,
-                owner,
-                legs_from: None,
-            },
-        );
+        self.surfaces
+            .insert(c, Surface::new(colour, texture, owner));
         (b, c)
     }
 
@@ -93,15 +86,8 @@ impl TestScene {
         let (_, c) = self
             .world
             .insert(body, ColliderBuilder::cuboid(half[0], half[1], half[2]));
-        self.surfaces.insert(
-            c,
-            Surface {
-                colour,
-                texture: Texture::Stripes,
-                owner: Owner::Object(1),
-                legs_from: None,
-            },
-        );
+        self.surfaces
+            .insert(c, Surface::new(colour, Texture::Stripes, Owner::Object(1)));
     }
 
     /// Adds a table as one compound collider: a 4 cm top of half extents `half` at `height` on four
@@ -130,15 +116,8 @@ impl TestScene {
             .translation(Vector::new(centre[0], centre[1], 0.0))
             .build();
         let (_, c) = self.world.insert(body, ColliderBuilder::compound(parts));
-        self.surfaces.insert(
-            c,
-            Surface {
-                colour,
-                texture: Texture::Checker,
-                owner: Owner::Object(2),
-                legs_from: None,
-            },
-        );
+        self.surfaces
+            .insert(c, Surface::new(colour, Texture::Checker, Owner::Object(2)));
     }
 
     /// Brings the broad phase up to date with the colliders, as the sensor requires.
