@@ -2,7 +2,8 @@
 
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
-use super::frame::{BeamEnd, RangeFrame};
+use super::frame::{Beam, BeamEnd, RangeFrame};
+use super::geometry::GridGeometry;
 #[cfg(doc)]
 use super::layers::Crossing;
 use super::layers::NO_OBJECT;
@@ -10,8 +11,77 @@ use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::{Cuts, Traversal};
 use super::visible::CellBox;
 use super::{GridError, ObstacleGrid};
+use nalgebra::Point2;
 
 const FREE: u8 = CellClass::Free as u8;
+
+/// How a frame's beams are walked (see [`Walk::beams`]).
+struct Walk<'a> {
+    geom: &'a GridGeometry,
+    sensor: Point2<f64>,
+    /// [`GridConfig::clear_margin`](super::GridConfig::clear_margin).
+    margin: f64,
+    /// [`GridConfig::free_gap`](super::GridConfig::free_gap).
+    gap: f64,
+    /// [`GridConfig::clear_tail`](super::GridConfig::clear_tail).
+    tail: f64,
+}
+
+impl Walk<'_> {
+    /// Walks `beams`, oring each crossed cell's [`Crossing::level`] into `level`; returns the box
+    /// of cells the walks may have set.
+    fn beams(&self, beams: &[Beam], level: &mut [u8]) -> CellBox {
+        let (geom, sensor) = (self.geom, self.sensor);
+        let mut walked = CellBox::EMPTY;
+        for beam in beams {
+            let hit_cell = match beam.kind {
+                BeamEnd::Hit => geom.cell_of(beam.end),
+                BeamEnd::Clear => None,
+            };
+            // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The
+            // end of a clear beam is not a surface, so all its crossings are far.
+            // Likewise "free" when it goes on at least `free_gap`: nearer than that to the return,
+            // the ray may be crossing the returned surface itself (range noise).
+            let len = (beam.end - sensor).norm();
+            let (t_free, t_far) = match beam.kind {
+                BeamEnd::Hit if len > 0.0 => (1.0 - self.gap / len, 1.0 - self.margin / len),
+                BeamEnd::Hit => (-1.0, -1.0),
+                BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
+            };
+            // The last `clear_tail` of a beam without a return is not counted as seen: at the
+            // range limit (or the farthest floor point) a return may just have dropped out, and a
+            // wall entering the range next frame must not look like something appearing in free
+            // space.
+            let end = match beam.kind {
+                BeamEnd::Hit => beam.end,
+                BeamEnd::Clear if len <= self.tail => continue,
+                BeamEnd::Clear => sensor + (beam.end - sensor) * ((len - self.tail) / len),
+            };
+            // Cells nearer than `seen_from` lie under the camera's lowest ray: not seen at all.
+            let length = (end - sensor).norm();
+            let t_seen = if length > 0.0 {
+                beam.seen_from / length
+            } else {
+                0.0
+            };
+            let cuts = Cuts {
+                seen: t_seen,
+                free: t_free,
+                far: t_far,
+            };
+            let cells =
+                Traversal::new(geom, sensor, end).for_each_cell(geom, hit_cell, &cuts, |i, bit| {
+                    if let Some(v) = level.get_mut(i) {
+                        *v |= bit;
+                    }
+                });
+            if let Some((a, b)) = cells {
+                walked = walked.union(CellBox::spanned(geom.width(), a, b));
+            }
+        }
+        walked
+    }
+}
 
 /// Per-frame lists, kept between frames to reuse their allocations (never swept).
 #[derive(Clone, Debug, Default)]
@@ -66,84 +136,25 @@ impl ObstacleGrid {
     /// Walks every beam: crossed cells and returned cells of this frame, with their histories.
     fn traverse(&mut self, frame: &RangeFrame, s: &mut Scratch) {
         let f = self.frame;
-        let sensor = frame.sensor();
-        s.hits.clear();
-        s.quiet.clear();
-        let step = mean_beam_step(frame);
-        let (margin, gap) = (self.cfg.clear_margin, self.cfg.free_gap);
-        let tail = self.cfg.clear_tail;
         let geom = &self.geom;
-        let width = geom.width();
+        let walk = Walk {
+            geom,
+            sensor: frame.sensor(),
+            margin: self.cfg.clear_margin,
+            gap: self.cfg.free_gap,
+            tail: self.cfg.clear_tail,
+        };
         let l = &mut self.layers;
         l.visible.begin(f);
         if s.level.len() != geom.len() {
             s.level = vec![0; geom.len()];
         }
-        // The cells the walks may have visited.
-        let mut walked = CellBox::EMPTY;
-        for beam in frame.beams() {
-            let hit_cell = match beam.kind {
-                BeamEnd::Hit => geom.cell_of(beam.end),
-                BeamEnd::Clear => None,
-            };
-            // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The end of a
-            // clear beam is not a surface, so all its crossings are far.
-            // Likewise "free" when it goes on at least `free_gap`: nearer than that to the return, the
-            // ray may be crossing the returned surface itself (range noise).
-            let len = (beam.end - sensor).norm();
-            let (t_free, t_far) = match beam.kind {
-                BeamEnd::Hit if len > 0.0 => (1.0 - gap / len, 1.0 - margin / len),
-                BeamEnd::Hit => (-1.0, -1.0),
-                BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
-            };
-            // The last `clear_tail` of a beam without a return is not counted as seen: at the range limit
-            // (or the farthest floor point) a return may just have dropped out, and a wall entering the
-            // range next frame must not look like something appearing in free space.
-            let end = match beam.kind {
-                BeamEnd::Hit => beam.end,
-                BeamEnd::Clear => {
-                    let d = beam.end - sensor;
-                    let len = d.norm();
-                    if len <= tail {
-                        continue;
-                    }
-                    sensor + d * ((len - tail) / len)
-                }
-            };
-            // Cells nearer than `seen_from` lie under the camera's lowest ray: not seen at all.
-            let length = (end - sensor).norm();
-            let t_seen = if length > 0.0 {
-                beam.seen_from / length
-            } else {
-                0.0
-            };
-            let cuts = Cuts {
-                seen: t_seen,
-                free: t_free,
-                far: t_far,
-            };
-            let walk = Traversal::new(geom, sensor, end);
-            let level = s.level.as_mut_slice();
-            if let Some((a, b)) = walk.for_each_cell(geom, hit_cell, &cuts, |i, bit| {
-                if let Some(v) = level.get_mut(i) {
-                    *v |= bit;
-                }
-            }) {
-                walked = walked.union(CellBox::spanned(width, a, b));
-            }
-            // The return's cell, even if floating point made the walk end a cell short of it.
-            if let Some(c) = hit_cell {
-                let i = c.y as usize * width + c.x as usize;
-                if l.record_hit(i, f) {
-                    s.hits.push(i as u32);
-                    let r = moving::quiet_radius(len, step, geom.resolution());
-                    s.quiet.push(r as u8);
-                }
-            }
-        }
+        let walked = walk.beams(frame.beams(), &mut s.level);
+        self.record_hits(frame, s);
         // The crossed cells that are not free, for classification, in row-major order (free cells
         // seen free again need nothing: their crossings are recorded as bits).
         s.crossed.clear();
+        let l = &mut self.layers;
         let class = l.class.as_slice();
         let crossed = &mut s.crossed;
         l.visible.fold_levels(f, &mut s.level, walked, |k, bits| {
@@ -154,6 +165,28 @@ impl ObstacleGrid {
                 bits &= bits - 1;
             }
         });
+    }
+
+    /// Records the frame's returns in their cells (once per cell and frame), in beam order, with
+    /// the moving rule's quiet neighbourhood of each.
+    fn record_hits(&mut self, frame: &RangeFrame, s: &mut Scratch) {
+        let f = self.frame;
+        let sensor = frame.sensor();
+        let step = mean_beam_step(frame);
+        let (geom, l) = (&self.geom, &mut self.layers);
+        s.hits.clear();
+        s.quiet.clear();
+        for beam in frame.beams().iter().filter(|b| b.kind == BeamEnd::Hit) {
+            let Some(i) = geom.cell_of(beam.end).and_then(|c| geom.index(c)) else {
+                continue;
+            };
+            if l.record_hit(i, f) {
+                s.hits.push(i as u32);
+                let len = (beam.end - sensor).norm();
+                s.quiet
+                    .push(moving::quiet_radius(len, step, geom.resolution()) as u8);
+            }
+        }
     }
 
     /// Stamps the neighbourhood (`moving_step`) of last frame's moving cells.
