@@ -92,6 +92,7 @@ mod frame;
 mod geometry;
 mod image;
 mod layers;
+mod near_field;
 mod queries;
 mod raster;
 pub mod rules;

@@ -9,7 +9,8 @@ use super::layers::Crossing;
 use super::layers::NO_OBJECT;
 use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::{Cuts, Traversal};
-use super::visible::CellBox;
+use super::near_field::{NearField, Reach};
+use super::visible::{CellBox, SlotWriter};
 use super::{GridError, ObstacleGrid};
 use nalgebra::Point2;
 
@@ -18,6 +19,8 @@ const FREE: u8 = CellClass::Free as u8;
 /// How a frame's beams are walked (see [`Walk::beams`]).
 struct Walk<'a> {
     geom: &'a GridGeometry,
+    /// Whether the beams' dense near field may be filled rather than walked.
+    near_field: bool,
     sensor: Point2<f64>,
     /// [`GridConfig::clear_margin`](super::GridConfig::clear_margin).
     margin: f64,
@@ -28,58 +31,107 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    /// Walks `beams`, oring each crossed cell's [`Crossing::level`] into `level`; returns the box
-    /// of cells the walks may have set.
-    fn beams(&self, beams: &[Beam], level: &mut [u8]) -> CellBox {
+    /// Walks `beams`, oring each crossed cell's [`Crossing::level`] into `level`, except where the
+    /// beams are dense enough for the near field to mark their cells through `out` (see
+    /// `near_field.rs`); returns the box of cells marked either way. `reach` is scratch space.
+    fn beams(
+        &self,
+        beams: &[Beam],
+        level: &mut [u8],
+        out: &mut SlotWriter<'_>,
+        reach: &mut Vec<Reach>,
+    ) -> CellBox {
         let (geom, sensor) = (self.geom, self.sensor);
+        reach.clear();
+        reach.extend(beams.iter().map(|b| self.reach(b)));
         let mut walked = CellBox::EMPTY;
+        let near = NearField::of(geom, sensor, reach).filter(|_| self.near_field);
+        let skipped = near.map(|near| {
+            let width = geom.width();
+            near.fill(geom, |y, x0, x1| {
+                let (lo, hi) = (y * width + x0, y * width + x1);
+                out.or_far_run(lo, hi);
+                walked = walked.union(CellBox::spanned(width, lo, hi));
+            });
+            near.skipped(geom.resolution())
+        });
         for beam in beams {
             let hit_cell = match beam.kind {
                 BeamEnd::Hit => geom.cell_of(beam.end),
                 BeamEnd::Clear => None,
             };
-            // A crossing is "far" when the ray goes on at least `margin` past the cell's exit. The
-            // end of a clear beam is not a surface, so all its crossings are far.
-            // Likewise "free" when it goes on at least `free_gap`: nearer than that to the return,
-            // the ray may be crossing the returned surface itself (range noise).
             let len = (beam.end - sensor).norm();
-            let (t_free, t_far) = match beam.kind {
-                BeamEnd::Hit if len > 0.0 => (1.0 - self.gap / len, 1.0 - self.margin / len),
-                BeamEnd::Hit => (-1.0, -1.0),
-                BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
-            };
             // The last `clear_tail` of a beam without a return is not counted as seen: at the
             // range limit (or the farthest floor point) a return may just have dropped out, and a
             // wall entering the range next frame must not look like something appearing in free
             // space.
-            let end = match beam.kind {
-                BeamEnd::Hit => beam.end,
+            let (end, length) = match beam.kind {
+                BeamEnd::Hit => (beam.end, len),
                 BeamEnd::Clear if len <= self.tail => continue,
-                BeamEnd::Clear => sensor + (beam.end - sensor) * ((len - self.tail) / len),
+                BeamEnd::Clear => (
+                    sensor + (beam.end - sensor) * ((len - self.tail) / len),
+                    len - self.tail,
+                ),
             };
-            // Cells nearer than `seen_from` lie under the camera's lowest ray: not seen at all.
-            let length = (end - sensor).norm();
-            let t_seen = if length > 0.0 {
-                beam.seen_from / length
-            } else {
-                0.0
+            // Distances along the beam where its cells change kind: nearer than `seen_from` they lie
+            // under the camera's lowest ray (not seen); a crossing is "far" when the ray goes on at
+            // least `margin` past the cell's exit and "free" when at least `free_gap` (nearer the
+            // return than that, the ray may be crossing the returned surface itself). The end of a
+            // clear beam is not a surface: all its crossings are far.
+            let (free, far) = match beam.kind {
+                BeamEnd::Hit => (len - self.gap, len - self.margin),
+                BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
             };
-            let cuts = Cuts {
-                seen: t_seen,
-                free: t_free,
-                far: t_far,
-            };
-            let cells =
-                Traversal::new(geom, sensor, end).for_each_cell(geom, hit_cell, &cuts, |i, bit| {
+            let kinds = [beam.seen_from, far, free];
+            let mut piece = |from: f64, to: f64, stop| {
+                let (a, b) = (sensor + (end - sensor) * (from / length), end);
+                let b = if to < length {
+                    sensor + (end - sensor) * (to / length)
+                } else {
+                    b
+                };
+                // The piece's own parameters: 0 at `from`, 1 at `to`.
+                let t = |d: f64| (d - from) / (to - from);
+                let cuts = Cuts {
+                    seen: t(kinds[0]),
+                    far: t(kinds[1]),
+                    free: t(kinds[2]),
+                };
+                let cells = Traversal::new(geom, a, b).for_each_cell(geom, stop, &cuts, |i, bit| {
                     if let Some(v) = level.get_mut(i) {
                         *v |= bit;
                     }
                 });
-            if let Some((a, b)) = cells {
-                walked = walked.union(CellBox::spanned(geom.width(), a, b));
+                if let Some((a, b)) = cells {
+                    walked = walked.union(CellBox::spanned(geom.width(), a, b));
+                }
+            };
+            match skipped {
+                Some((near, far)) if length > 0.0 && far < length && near < far => {
+                    piece(0.0, near, None);
+                    piece(far, length, hit_cell);
+                }
+                _ if length > 0.0 => piece(0.0, length, hit_cell),
+                _ => {
+                    // A return at the sensor: nothing crossed but its own cell, which is returned.
+                }
             }
         }
         walked
+    }
+
+    /// What the near field needs of `beam`.
+    fn reach(&self, beam: &Beam) -> Reach {
+        let len = (beam.end - self.sensor).norm();
+        let far_to = match beam.kind {
+            BeamEnd::Hit => len - self.margin,
+            BeamEnd::Clear => len - self.tail,
+        };
+        Reach {
+            direction: beam.end - self.sensor,
+            seen_from: beam.seen_from,
+            far_to,
+        }
     }
 }
 
@@ -99,6 +151,10 @@ pub(crate) struct Scratch {
     /// the rays that crossed it. A byte a cell, so that a step's write never waits on the one
     /// before (bits of one word would); folded into bit-planes, and zeroed, once all rays are in.
     level: Vec<u8>,
+    /// What the near field needs of each beam (see `near_field.rs`).
+    reach: Vec<Reach>,
+    /// Walk every beam whole, without the near field (to check that it changes nothing).
+    walk_whole: bool,
 }
 
 impl ObstacleGrid {
@@ -139,6 +195,7 @@ impl ObstacleGrid {
         let geom = &self.geom;
         let walk = Walk {
             geom,
+            near_field: !s.walk_whole,
             sensor: frame.sensor(),
             margin: self.cfg.clear_margin,
             gap: self.cfg.free_gap,
@@ -149,7 +206,11 @@ impl ObstacleGrid {
         if s.level.len() != geom.len() {
             s.level = vec![0; geom.len()];
         }
-        let walked = walk.beams(frame.beams(), &mut s.level);
+        let Some(mut out) = l.visible.writer(f) else {
+            return;
+        };
+        let walked = walk.beams(frame.beams(), &mut s.level, &mut out, &mut s.reach);
+        out.cover(walked);
         self.record_hits(frame, s);
         // The crossed cells that are not free, for classification, in row-major order (free cells
         // seen free again need nothing: their crossings are recorded as bits).
@@ -426,6 +487,69 @@ mod tests {
     use super::super::{CellIndex, GridConfig, GridGeometry};
     use super::*;
     use nalgebra::Point2;
+
+    #[test]
+    fn filling_the_dense_near_field_marks_exactly_what_walking_every_beam_does() {
+        // Invariant: with the near field filled instead of walked, every frame leaves every cell
+        // crossed, seen free and crossed far exactly as walking every beam whole does, and so every
+        // class; over fans of all widths, densities, orders, ranges and blind zones.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 240, 200, 0.05).expect("valid");
+        let mut s = 0x2545_f491_4f6c_dd1d_u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut filled_any = 0;
+        for scene in 0..60 {
+            let mut fast = ObstacleGrid::new(geom, GridConfig::default());
+            let mut whole = ObstacleGrid::new(geom, GridConfig::default());
+            whole.scratch.walk_whole = true;
+            let n = 20 + (r() * 500.0) as usize;
+            let span = (0.2 + r() * 4.5).min(std::f64::consts::TAU * 0.99);
+            let clockwise = r() < 0.5;
+            let blind = if r() < 0.5 { 0.0 } else { r() * 1.5 };
+            let near_obstacle = r() < 0.2;
+            let mut sensor = Point2::new(2.0 + r() * 8.0, 2.0 + r() * 6.0);
+            for k in 0..4 {
+                let yaw = r() * std::f64::consts::TAU;
+                let mut frame = RangeFrame::new(sensor).expect("finite");
+                for b in 0..n {
+                    let u = b as f64 / (n - 1) as f64;
+                    let a = yaw + span * if clockwise { 1.0 - u } else { u };
+                    let d = nalgebra::Vector2::new(a.cos(), a.sin());
+                    let range = if near_obstacle && b == n / 3 {
+                        0.3 + r()
+                    } else {
+                        1.5 + r() * 7.0
+                    };
+                    frame.push_beam(Beam {
+                        end: sensor + d * range,
+                        kind: if r() < 0.7 { BeamEnd::Hit } else { BeamEnd::Clear },
+                        seen_from: blind * r(),
+                    });
+                }
+                fast.update(&frame, k as f64).expect("in order");
+                whole.update(&frame, k as f64).expect("in order");
+                let f = fast.frame;
+                let (a, b) = (&fast.layers.visible, &whole.layers.visible);
+                for i in 0..geom.len() {
+                    assert_eq!(
+                        (a.crossed_in(i, f), a.free(i, f), a.far(i, f)),
+                        (b.crossed_in(i, f), b.free(i, f), b.far(i, f)),
+                        "scene {scene} frame {k} cell {i}"
+                    );
+                }
+                assert_eq!(fast.layers.class, whole.layers.class, "scene {scene}");
+                let walked_less = (0..geom.len()).any(|i| a.far(i, f) & 1 != 0)
+                    && NearField::of(&geom, sensor, &fast.scratch.reach).is_some();
+                filled_any += usize::from(walked_less);
+                sensor += nalgebra::Vector2::new(r() - 0.5, r() - 0.5) * 0.2;
+            }
+        }
+        assert!(filled_any > 60, "the near field was filled in {filled_any} frames");
+    }
 
     #[test]
     fn cells_within_the_free_gap_of_a_return_are_observed_not_freed() {

@@ -277,6 +277,21 @@ pub(crate) struct SlotWriter<'a> {
 }
 
 impl SlotWriter<'_> {
+    /// Marks cells `lo..=hi` (linear indices, `lo <= hi`) as crossed far; the caller reports them
+    /// with [`Self::cover`]. Cells outside the grid are ignored.
+    pub fn or_far_run(&mut self, lo: usize, hi: usize) {
+        let (k0, k1) = (lo / 64, hi / 64);
+        let Some(words) = self.words.get_mut(k0..=k1.min(self.words.len().saturating_sub(1))) else {
+            return;
+        };
+        let last = k1 - k0;
+        for (n, w) in words.iter_mut().enumerate() {
+            let head = if n == 0 { !0u64 << (lo % 64) } else { !0 };
+            let tail = if n == last { !0u64 >> (63 - hi % 64) } else { !0 };
+            w[FAR] |= head & tail;
+        }
+    }
+
     /// Marks the cells of word `k` set in `bits` as crossed `how` (an out-of-grid word is ignored);
     /// the caller reports the words it marks with [`Self::cover`].
     #[cfg(test)]
