@@ -82,14 +82,18 @@ impl NearField {
             widest = widest.max(cross.abs() / n);
         }
         let gap = widest.min(1.0).asin();
-        if !(gap > 0.0) {
+        if gap.is_nan() || gap <= 0.0 {
             return None;
         }
         let seen = reach.iter().map(|r| r.seen_from).fold(0.0, f64::max) / res;
         let far = reach.iter().map(|r| r.far_to).fold(f64::INFINITY, f64::min) / res;
         let r_in = (seen + SLACK).max(MIN_INNER);
         let r_out = far.min((1.0 - SLACK) / gap);
-        if !(r_out - r_in > MIN_DEPTH + 2.0 * std::f64::consts::SQRT_2) || !r_out.is_finite() {
+        let depth = r_out - r_in;
+        if depth.is_nan()
+            || depth <= MIN_DEPTH + 2.0 * std::f64::consts::SQRT_2
+            || !r_out.is_finite()
+        {
             return None;
         }
         // Counter-clockwise parts under 90° each, sharing their edge beams.
@@ -141,7 +145,7 @@ impl NearField {
                 if y_far < r_out {
                     // All four corners within r_out.
                     let half = (r_out * r_out - y_far * y_far).sqrt();
-                    let mut lo = (sx - half).ceil();
+                    let mut lo = ceil(sx - half);
                     let mut hi = floor(sx + half) - 1.0;
                     // All corners in front of the part (its middle bearing).
                     let (a, b) = (m.x, m.y * if m.y >= 0.0 { ya } else { yb });
@@ -166,7 +170,7 @@ impl NearField {
                     } else {
                         let v = (r_in * r_in - y_near * y_near).sqrt();
                         emit(row, lo, hi.min(floor(sx - v) - 1.0), &mut run);
-                        emit(row, lo.max((sx + v).ceil()), hi, &mut run);
+                        emit(row, lo.max(ceil(sx + v)), hi, &mut run);
                     }
                 }
                 y += 1.0;
@@ -183,7 +187,7 @@ fn clip(lo: f64, hi: f64, a: f64, b: f64, right: bool, sx: f64) -> (f64, f64) {
         // x > sx − off − b / a
         (lo.max(floor(sx - off - b / a) + 1.0), hi)
     } else if a < 0.0 {
-        (lo, hi.min((sx - off - b / a).ceil() - 1.0))
+        (lo, hi.min(ceil(sx - off - b / a) - 1.0))
     } else if b > 0.0 {
         (lo, hi)
     } else {
@@ -191,6 +195,12 @@ fn clip(lo: f64, hi: f64, a: f64, b: f64, right: bool, sx: f64) -> (f64, f64) {
     }
 }
 
+/// `x.ceil()` without a library call (see [`floor`]).
+fn ceil(x: f64) -> f64 {
+    -floor(-x)
+}
+
+/// Calls `run` for cells `lo..=hi` of `row` if there are any.
 fn emit(row: usize, lo: f64, hi: f64, run: &mut impl FnMut(usize, usize, usize)) {
     if lo <= hi && hi >= 0.0 {
         run(row, lo.max(0.0) as usize, hi as usize);

@@ -179,6 +179,7 @@ impl Traversal {
         geom: &GridGeometry,
         stop: Option<CellIndex>,
         cuts: &Cuts,
+        skippable: Option<(f64, f64)>,
         mut cell: impl FnMut(usize, u8),
     ) -> Option<(usize, usize)> {
         let (w, h) = (geom.width() as i64, geom.height() as i64);
@@ -209,10 +210,40 @@ impl Traversal {
         let fold = |c: f64| if c < t_end { fixed(c) } else { i64::MAX };
         let t0 = exit(a, b);
         let (mut level, mut cut) = (cuts.level(t0), fold(cuts.next(t0)));
+        // The skippable stretch, as a cut of its own: once a cell's exit passes its start, the
+        // walk jumps to the cell holding its end.
+        let (mut skip_from, skip_to) = match skippable {
+            Some((t1, t2)) if t1 < t2 && t2 < t_end && da >= 1 << 20 && db >= 1 << 20 => {
+                (fixed(t1), fixed(t2))
+            }
+            _ => (i64::MAX, 0),
+        };
+        let mut next = cut.min(skip_from);
         while remaining > 1 {
-            if a > cut && b > cut {
+            if a > next && b > next {
                 let t = exit(a, b);
                 (level, cut) = (cuts.level(t), fold(cuts.next(t)));
+                if a > skip_from && b > skip_from {
+                    skip_from = i64::MAX;
+                    // Past the stretch: as many boundaries of each axis as lie before its end.
+                    let (kx, ky) = (
+                        boundaries_before(a, da, skip_to),
+                        boundaries_before(b, db, skip_to),
+                    );
+                    if kx + ky + 1 < remaining as i64 {
+                        cell(i as usize, level);
+                        i += kx * dix + ky * diy;
+                        a += kx * da;
+                        b += ky * db;
+                        remaining -= (kx + ky) as u64;
+                        let t = exit(a, b);
+                        (level, cut) = (cuts.level(t), fold(cuts.next(t)));
+                    }
+                }
+                next = cut.min(skip_from);
+                if remaining <= 1 {
+                    break;
+                }
             }
             cell(i as usize, level);
             remaining -= 1;
@@ -299,6 +330,23 @@ impl Traversal {
             self.remaining = self.remaining.saturating_sub(1);
         }
     }
+}
+
+/// How many of the boundaries `start`, `start + step`, … (fixed point, `step > 0`) lie before
+/// `end`.
+fn boundaries_before(start: i64, step: i64, end: i64) -> i64 {
+    if end <= start {
+        return 0;
+    }
+    // A float estimate made exact by integer checks (off by rounding only).
+    let mut k = ((end - start) as f64 / step as f64) as i64;
+    while start + k * step < end {
+        k += 1;
+    }
+    while k > 0 && start + (k - 1) * step >= end {
+        k -= 1;
+    }
+    k
 }
 
 /// One in the walk's fixed point.
@@ -525,12 +573,13 @@ mod tests {
                 .collect();
             expected.sort_by_key(|e| e.0);
             let mut got = Vec::new();
-            let rows = Traversal::new(&geom, a, b).for_each_cell(&geom, stop, &cuts, |i, level| {
-                if level != 0 {
-                    let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
-                    got.push((i, kinds.into_iter().find(|k| k.level() == level)));
-                }
-            });
+            let rows =
+                Traversal::new(&geom, a, b).for_each_cell(&geom, stop, &cuts, None, |i, level| {
+                    if level != 0 {
+                        let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
+                        got.push((i, kinds.into_iter().find(|k| k.level() == level)));
+                    }
+                });
             if let Some((first, last)) = rows {
                 let span = |f: fn(usize) -> usize| {
                     let (a, b) = (f(first), f(last));

@@ -7,9 +7,9 @@ use super::geometry::GridGeometry;
 #[cfg(doc)]
 use super::layers::Crossing;
 use super::layers::NO_OBJECT;
+use super::near_field::{NearField, Reach};
 use super::rules::{self, HitDecision, free_space, movable, moving};
 use super::traversal::{Cuts, Traversal};
-use super::near_field::{NearField, Reach};
 use super::visible::{CellBox, SlotWriter};
 use super::{GridError, ObstacleGrid};
 use nalgebra::Point2;
@@ -49,9 +49,14 @@ impl Walk<'_> {
         let skipped = near.map(|near| {
             let width = geom.width();
             near.fill(geom, |y, x0, x1| {
-                let (lo, hi) = (y * width + x0, y * width + x1);
-                out.or_far_run(lo, hi);
-                walked = walked.union(CellBox::spanned(width, lo, hi));
+                out.or_far_run(y * width + x0, y * width + x1);
+                walked = walked.union(CellBox {
+                    width,
+                    x0,
+                    x1,
+                    y0: y,
+                    y1: y,
+                });
             });
             near.skipped(geom.resolution())
         });
@@ -82,39 +87,24 @@ impl Walk<'_> {
                 BeamEnd::Hit => (len - self.gap, len - self.margin),
                 BeamEnd::Clear => (f64::INFINITY, f64::INFINITY),
             };
-            let kinds = [beam.seen_from, far, free];
-            let mut piece = |from: f64, to: f64, stop| {
-                let (a, b) = (sensor + (end - sensor) * (from / length), end);
-                let b = if to < length {
-                    sensor + (end - sensor) * (to / length)
-                } else {
-                    b
-                };
-                // The piece's own parameters: 0 at `from`, 1 at `to`.
-                let t = |d: f64| (d - from) / (to - from);
-                let cuts = Cuts {
-                    seen: t(kinds[0]),
-                    far: t(kinds[1]),
-                    free: t(kinds[2]),
-                };
-                let cells = Traversal::new(geom, a, b).for_each_cell(geom, stop, &cuts, |i, bit| {
-                    if let Some(v) = level.get_mut(i) {
-                        *v |= bit;
-                    }
-                });
-                if let Some((a, b)) = cells {
-                    walked = walked.union(CellBox::spanned(geom.width(), a, b));
-                }
+            if length <= 0.0 {
+                continue; // a return at the sensor: nothing crossed but its own, returned cell
+            }
+            let t = |d: f64| d / length;
+            let cuts = Cuts {
+                seen: t(beam.seen_from),
+                far: t(far),
+                free: t(free),
             };
-            match skipped {
-                Some((near, far)) if length > 0.0 && far < length && near < far => {
-                    piece(0.0, near, None);
-                    piece(far, length, hit_cell);
+            let skippable = skipped.map(|(near, far)| (t(near), t(far)));
+            let walk = Traversal::new(geom, sensor, end);
+            let cells = walk.for_each_cell(geom, hit_cell, &cuts, skippable, |i, bit| {
+                if let Some(v) = level.get_mut(i) {
+                    *v |= bit;
                 }
-                _ if length > 0.0 => piece(0.0, length, hit_cell),
-                _ => {
-                    // A return at the sensor: nothing crossed but its own cell, which is returned.
-                }
+            });
+            if let Some((a, b)) = cells {
+                walked = walked.union(CellBox::spanned(geom.width(), a, b));
             }
         }
         walked
@@ -526,7 +516,11 @@ mod tests {
                     };
                     frame.push_beam(Beam {
                         end: sensor + d * range,
-                        kind: if r() < 0.7 { BeamEnd::Hit } else { BeamEnd::Clear },
+                        kind: if r() < 0.7 {
+                            BeamEnd::Hit
+                        } else {
+                            BeamEnd::Clear
+                        },
                         seen_from: blind * r(),
                     });
                 }
@@ -548,7 +542,10 @@ mod tests {
                 sensor += nalgebra::Vector2::new(r() - 0.5, r() - 0.5) * 0.2;
             }
         }
-        assert!(filled_any > 60, "the near field was filled in {filled_any} frames");
+        assert!(
+            filled_any > 60,
+            "the near field was filled in {filled_any} frames"
+        );
     }
 
     #[test]

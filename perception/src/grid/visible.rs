@@ -281,13 +281,20 @@ impl SlotWriter<'_> {
     /// with [`Self::cover`]. Cells outside the grid are ignored.
     pub fn or_far_run(&mut self, lo: usize, hi: usize) {
         let (k0, k1) = (lo / 64, hi / 64);
-        let Some(words) = self.words.get_mut(k0..=k1.min(self.words.len().saturating_sub(1))) else {
+        let Some(words) = self
+            .words
+            .get_mut(k0..=k1.min(self.words.len().saturating_sub(1)))
+        else {
             return;
         };
         let last = k1 - k0;
         for (n, w) in words.iter_mut().enumerate() {
             let head = if n == 0 { !0u64 << (lo % 64) } else { !0 };
-            let tail = if n == last { !0u64 >> (63 - hi % 64) } else { !0 };
+            let tail = if n == last {
+                !0u64 >> (63 - hi % 64)
+            } else {
+                !0
+            };
             w[FAR] |= head & tail;
         }
     }
