@@ -134,10 +134,14 @@ impl NearField {
         let (sx, sy) = self.sensor;
         let (w, h) = (geom.width() as f64, geom.height() as f64);
         let (r_in, r_out) = (self.r_in, self.r_out);
-        let y0 = floor(sy - r_out).max(0.0);
-        let y1 = floor(sy + r_out).min(h - 1.0);
         for &(f, l) in &self.parts {
             let m = f + l; // the part's middle bearing (not normalised: only its sign is used)
+            // The rows the part's wedge reaches (a cell more each way: cells overlap it).
+            let within = |d: Vector2<f64>| f.perp(&d) >= 0.0 && d.perp(&l) >= 0.0;
+            let up = if within(Vector2::y()) { 1.0 } else { f.y.max(l.y).max(0.0) };
+            let down = if within(-Vector2::y()) { -1.0 } else { f.y.min(l.y).min(0.0) };
+            let y0 = (floor(sy + r_out * down) - 1.0).max(0.0);
+            let y1 = (floor(sy + r_out * up) + 1.0).min(h - 1.0);
             let mut y = y0;
             while y <= y1 {
                 let (ya, yb) = (y - sy, y + 1.0 - sy);
