@@ -76,19 +76,18 @@ impl Traversal {
         let (dx, dy) = (bx - ax, by - ay);
         // Both ends in the grid (the common case: a sensor on the map looking at it): no clipping.
         // Liang–Barsky would find every bound at or beyond the segment's ends — rounding is monotone,
-        // so e.g. (w − ax) / dx ≥ 1 when bx ≤ w — and give (±0, 1); the sign of a zero t0 changes no
-        // cell.
+        // so e.g. (w − ax) / dx ≥ 1 when bx ≤ w — and give (±0, 1), so a start a + t0·d = a (but
+        // for the sign of a zero, which changes no cell).
         let inside = |a: f64, b: f64, n: f64| 0.0 <= a && a <= n && 0.0 <= b && b <= n;
-        let (t0, t1) = if inside(ax, bx, w) && inside(ay, by, h) {
-            (0.0, 1.0)
+        let (sx, sy, t1) = if inside(ax, bx, w) && inside(ay, by, h) {
+            (ax, ay, 1.0)
         } else if !(ax.is_finite() && ay.is_finite() && bx.is_finite() && by.is_finite()) {
             return Self::empty();
-        } else if let Some(t) = clip(ax, ay, dx, dy, w, h) {
-            t
+        } else if let Some((t0, t1)) = clip(ax, ay, dx, dy, w, h) {
+            (ax + t0 * dx, ay + t0 * dy, t1)
         } else {
             return Self::empty();
         };
-        let (sx, sy) = (ax + t0 * dx, ay + t0 * dy);
         let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
         let start = |s: f64, d: f64, n: f64| -> i64 {
             let f = floor(s);
