@@ -267,8 +267,9 @@ impl Appearances {
         self.cells.clear();
         let hits = frame.beams().iter().filter(|b| b.kind == BeamEnd::Hit);
         for b in hits {
-            if let Some(i) = g.cell_of(b.end).and_then(|c| g.index(c))
-                && self.previous.appeared(b.end, gap)
+            // The ray test first: it turns down most returns, sparing their cells' look-up.
+            if self.previous.appeared(b.end, gap)
+                && let Some(i) = g.cell_of(b.end).and_then(|c| g.index(c))
             {
                 self.cells.push(i as u32);
             }
