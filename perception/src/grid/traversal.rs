@@ -73,14 +73,21 @@ impl Traversal {
 
     /// Traversal in continuous grid coordinates of a `w × h` grid.
     fn in_grid_units(ax: f64, ay: f64, bx: f64, by: f64, w: f64, h: f64) -> Self {
-        if !(ax.is_finite() && ay.is_finite() && bx.is_finite() && by.is_finite()) {
-            return Self::empty();
-        }
         let (dx, dy) = (bx - ax, by - ay);
-        let Some((t0, t1)) = clip(ax, ay, dx, dy, w, h) else {
+        // Both ends in the grid (the common case: a sensor on the map looking at it): no clipping.
+        // Liang–Barsky would find every bound at or beyond the segment's ends — rounding is monotone,
+        // so e.g. (w − ax) / dx ≥ 1 when bx ≤ w — and give (±0, 1), so a start a + t0·d = a (but
+        // for the sign of a zero, which changes no cell).
+        let inside = |a: f64, b: f64, n: f64| 0.0 <= a && a <= n && 0.0 <= b && b <= n;
+        let (sx, sy, t1) = if inside(ax, bx, w) && inside(ay, by, h) {
+            (ax, ay, 1.0)
+        } else if !(ax.is_finite() && ay.is_finite() && bx.is_finite() && by.is_finite()) {
+            return Self::empty();
+        } else if let Some((t0, t1)) = clip(ax, ay, dx, dy, w, h) {
+            (ax + t0 * dx, ay + t0 * dy, t1)
+        } else {
             return Self::empty();
         };
-        let (sx, sy) = (ax + t0 * dx, ay + t0 * dy);
         let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
         let start = |s: f64, d: f64, n: f64| -> i64 {
             let f = floor(s);
@@ -413,6 +420,121 @@ mod tests {
         Traversal::in_grid_units(ax, ay, bx, by, 10.0, 10.0)
             .map(|c| (c.cell.x as i64, c.cell.y as i64))
             .collect()
+    }
+
+    /// [`Traversal::in_grid_units`] as first written: every segment through Liang–Barsky.
+    fn always_clipped(ax: f64, ay: f64, bx: f64, by: f64, w: f64, h: f64) -> Traversal {
+        if !(ax.is_finite() && ay.is_finite() && bx.is_finite() && by.is_finite()) {
+            return Traversal::empty();
+        }
+        let (dx, dy) = (bx - ax, by - ay);
+        let Some((t0, t1)) = clip(ax, ay, dx, dy, w, h) else {
+            return Traversal::empty();
+        };
+        let (sx, sy) = (ax + t0 * dx, ay + t0 * dy);
+        let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
+        let start = |s: f64, d: f64, n: f64| -> i64 {
+            let f = floor(s);
+            let c = if d < 0.0 && f == s { f - 1.0 } else { f };
+            c.clamp(0.0, n - 1.0) as i64
+        };
+        let x = start(sx, dx, w);
+        let y = start(sy, dy, h);
+        let end_x = floor(ex).clamp(0.0, w - 1.0) as i64;
+        let end_y = floor(ey).clamp(0.0, h - 1.0) as i64;
+        // Per axis: the parameter of the first boundary ahead, (next boundary − a) / d, and between
+        // boundaries, 1 / |d| (= −1 / d for d < 0, to the bit); none along an axis not moved on.
+        // Both axes' divisions side by side, so that they can go as one two-lane division.
+        let next = |c: i64, d: f64, a: f64| {
+            if d > 0.0 {
+                (c + 1) as f64 - a
+            } else {
+                c as f64 - a
+            }
+        };
+        let t_max = [next(x, dx, ax) / dx, next(y, dy, ay) / dy];
+        let t_delta = [1.0 / dx.abs(), 1.0 / dy.abs()];
+        let axis = |d: f64, t_max: f64, t_delta: f64| -> (i64, f64, f64) {
+            if d > 0.0 {
+                (1, t_max, t_delta)
+            } else if d < 0.0 {
+                (-1, t_max, t_delta)
+            } else {
+                (0, f64::INFINITY, f64::INFINITY)
+            }
+        };
+        let (step_x, t_max_x, t_delta_x) = axis(dx, t_max[0], t_delta[0]);
+        let (step_y, t_max_y, t_delta_y) = axis(dy, t_max[1], t_delta[1]);
+        let remaining = (end_x - x).unsigned_abs() + (end_y - y).unsigned_abs() + 1;
+        Traversal {
+            x,
+            y,
+            step_x,
+            step_y,
+            t_max_x,
+            t_max_y,
+            t_delta_x,
+            t_delta_y,
+            end_x,
+            end_y,
+            t_end: t1,
+            remaining,
+        }
+    }
+
+    /// Every field of a traversal, floats by their bits.
+    fn fields(t: &Traversal) -> [u64; 12] {
+        [
+            t.x as u64,
+            t.y as u64,
+            t.step_x as u64,
+            t.step_y as u64,
+            t.t_max_x.to_bits(),
+            t.t_max_y.to_bits(),
+            t.t_delta_x.to_bits(),
+            t.t_delta_y.to_bits(),
+            t.end_x as u64,
+            t.end_y as u64,
+            t.t_end.to_bits(),
+            t.remaining,
+        ]
+    }
+
+    #[test]
+    fn segments_inside_the_grid_skip_the_clip_and_walk_the_same() {
+        // Invariant: a traversal set up without the clip for segments inside the grid is, field for
+        // field and bit for bit, the one set up through Liang–Barsky — for ends inside, on the border
+        // (±0 too), just outside and far outside, axis-aligned and not.
+        let (w, h) = (40.0, 30.0);
+        let mut s = 0x1f2e_3d4c_u64;
+        let mut r = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let mut coord = |n: f64| {
+            let u = (r() % 1_000_000) as f64 / 1_000_000.0;
+            match r() % 8 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => n,
+                3 => (u * n).round(),
+                4 => u * (n + 2.0) - 1.0,
+                5 => u * 200.0 - 100.0,
+                _ => u * n,
+            }
+        };
+        let mut inside = 0;
+        for _ in 0..200_000 {
+            let (ax, ay, bx, by) = (coord(w), coord(h), coord(w), coord(h));
+            let got = Traversal::in_grid_units(ax, ay, bx, by, w, h);
+            let want = always_clipped(ax, ay, bx, by, w, h);
+            assert_eq!(fields(&got), fields(&want), "{ax} {ay} -> {bx} {by}");
+            let within = |a: f64, b: f64, n: f64| (0.0..=n).contains(&a) && (0.0..=n).contains(&b);
+            inside += usize::from(within(ax, bx, w) && within(ay, by, h));
+        }
+        assert!(inside > 50_000);
     }
 
     #[test]

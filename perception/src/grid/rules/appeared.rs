@@ -20,7 +20,7 @@
 //! rather than cells, it needs no cell to have been seen free, and it costs one binary search per
 //! return.
 
-use nalgebra::Point2;
+use nalgebra::{Point2, Vector2};
 
 use super::super::frame::{BeamEnd, RangeFrame};
 use super::super::geometry::GridGeometry;
@@ -33,10 +33,21 @@ const BRACKET_STEPS: f64 = 1.5;
 /// Likewise for the next previous beam out on each side (within two on an even scan).
 const OUTER_STEPS: f64 = 2.5;
 
+/// Pseudo-angles closer than this may order differently from the bearings they stand for; farther
+/// apart they cannot. Rounding moves a pseudo-angle by a few 10⁻¹⁶ and a bearing (`atan2`) by one
+/// ulp of π, and a bearing changes at most twice as fast as its pseudo-angle: a margin a million
+/// times that leaves no doubt.
+const PSEUDO_MARGIN: f64 = 1e-9;
+
 /// What one previous beam saw along its bearing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Seen {
-    /// Map-frame bearing from the previous sensor position (rad, in (−π, π]).
+    /// From the previous sensor position to the beam's end (m).
+    to_end: Vector2<f64>,
+    /// [`pseudo_angle`] of `to_end`: rises with the bearing, and costs one division.
+    pseudo: f64,
+    /// Map-frame bearing from the previous sensor position (rad, in (−π, π]); NaN until
+    /// [`PreviousBeams::fill_bearings`] fills it in.
     bearing: f64,
     /// How far the beam went with nothing returned before it (m): to its return or its clear end.
     reach: f64,
@@ -44,35 +55,104 @@ struct Seen {
     seen_from: f64,
 }
 
+impl Seen {
+    /// Whether the beam went on at least `gap` past a point at `range` with nothing returned, and saw
+    /// from nearer than it: the test of [`PreviousBeams::appeared`] short of the bearing's.
+    #[inline]
+    fn went_past(&self, range: f64, gap: f64) -> bool {
+        self.reach >= range + gap && self.seen_from <= range
+    }
+}
+
 /// The previous frame's beams ordered by bearing from its sensor: what the last frame saw along each
 /// bearing, for [`PreviousBeams::appeared`].
+///
+/// Bearings (`atan2`) and their median step are only worked out once a return passes the test
+/// without them (see [`PreviousBeams::appeared`]): most returns of a frame lie on surfaces the
+/// previous beams returned from as well, and are turned down by the beams' reaches alone, found by
+/// pseudo-angle.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PreviousBeams {
     /// The previous frame's sensor position; `None` before the first frame.
     sensor: Option<Point2<f64>>,
-    /// Sorted by bearing.
+    /// Sorted by bearing, ties in frame order.
     beams: Vec<Seen>,
-    /// Median angle between bearing-neighbouring beams (rad).
+    /// The pseudo-angles of `beams` rise by more than [`PSEUDO_MARGIN`] from beam to beam: their
+    /// order is the bearings', and a pseudo-angle search brackets a bearing search.
+    by_pseudo: bool,
+    /// `beams`' bearings and `step` are filled in.
+    exact: bool,
+    /// Median angle between bearing-neighbouring beams (rad), once `exact`.
     step: f64,
     /// Reused buffer for the median.
     gaps: Vec<f64>,
+    /// Where the last pseudo-angle search ended: returns come in bearing order, so the next one
+    /// is usually found a beam or two away.
+    hint: usize,
 }
 
 impl PreviousBeams {
-    /// Keeps `frame` as the previous frame for the next one's test: O(n log n) for n beams.
+    /// Keeps `frame` as the previous frame for the next one's test: O(n) for n beams in bearing
+    /// order (either way round, or two runs split at the ±π seam), O(n log n) otherwise.
     pub(crate) fn remember(&mut self, frame: &RangeFrame) {
         let s = frame.sensor();
         self.sensor = Some(s);
+        self.exact = false;
+        self.hint = 0;
         self.beams.clear();
         self.beams.extend(frame.beams().iter().map(|b| {
             let v = b.end - s;
             Seen {
-                bearing: v.y.atan2(v.x),
+                to_end: v,
+                pseudo: pseudo_angle(v),
+                bearing: f64::NAN,
                 reach: v.norm(),
                 seen_from: b.seen_from,
             }
         }));
-        self.beams.sort_by(|a, b| a.bearing.total_cmp(&b.bearing));
+        if !self.beams.is_sorted_by(|a, b| a.pseudo <= b.pseudo) {
+            if self.beams.is_sorted_by(|a, b| a.pseudo >= b.pseudo) {
+                self.beams.reverse();
+            } else {
+                self.beams.sort_by(|a, b| a.pseudo.total_cmp(&b.pseudo));
+            }
+        }
+        self.by_pseudo = self
+            .beams
+            .windows(2)
+            .all(|w| w[1].pseudo - w[0].pseudo > PSEUDO_MARGIN);
+        if !self.by_pseudo {
+            // Bearings within the margin (repeated directions, a beam of length 0): sort by the
+            // bearings themselves, from the frame's order, so that ties keep it.
+            self.beams.clear();
+            self.beams.extend(frame.beams().iter().map(|b| {
+                let v = b.end - s;
+                Seen {
+                    to_end: v,
+                    pseudo: f64::NAN,
+                    bearing: v.y.atan2(v.x),
+                    reach: v.norm(),
+                    seen_from: b.seen_from,
+                }
+            }));
+            self.beams.sort_by(|a, b| a.bearing.total_cmp(&b.bearing));
+            self.exact_step();
+        }
+    }
+
+    /// Fills in the bearings (in pseudo-angle order, which is theirs) and their median step.
+    fn fill_bearings(&mut self) {
+        if self.exact {
+            return;
+        }
+        for b in &mut self.beams {
+            b.bearing = b.to_end.y.atan2(b.to_end.x);
+        }
+        self.exact_step();
+    }
+
+    /// The median angle between bearing-neighbouring beams, from the sorted bearings.
+    fn exact_step(&mut self) {
         self.gaps.clear();
         self.gaps
             .extend(self.beams.windows(2).map(|w| w[1].bearing - w[0].bearing));
@@ -82,6 +162,7 @@ impl PreviousBeams {
             let mid = self.gaps.len() / 2;
             *self.gaps.select_nth_unstable_by(mid, f64::total_cmp).1
         };
+        self.exact = true;
     }
 
     /// Whether a return at `p` lies at least `gap` inside what the previous frame saw empty along its
@@ -89,16 +170,27 @@ impl PreviousBeams {
     /// bearing and the next one out on each side (all close to that bearing: [`BRACKET_STEPS`],
     /// [`OUTER_STEPS`]) went on at least `gap` past `p` with nothing returned, and saw from nearer
     /// than `p`.
-    pub(crate) fn appeared(&self, p: Point2<f64>, gap: f64) -> bool {
+    ///
+    /// Decided first without bearings: the pseudo-angle search brackets where `p`'s bearing falls
+    /// among the beams' (usually on one place), and if no four beams around any place in the bracket
+    /// all went past `p`, it has not appeared. Only otherwise are the bearings worked out.
+    pub(crate) fn appeared(&mut self, p: Point2<f64>, gap: f64) -> bool {
         let (Some(s), n) = (self.sensor, self.beams.len()) else {
             return false;
         };
-        if n < 3 || self.step <= 0.0 {
+        if n < 3 {
             return false;
         }
         let v = p - s;
         let range = v.norm();
         if !(range > 0.0 && range.is_finite()) {
+            return false;
+        }
+        if self.by_pseudo && !self.may_have_appeared(v, range, gap) {
+            return false;
+        }
+        self.fill_bearings();
+        if self.step <= 0.0 {
             return false;
         }
         let bearing = v.y.atan2(v.x);
@@ -108,10 +200,55 @@ impl PreviousBeams {
             .into_iter()
             .all(|(d, steps)| {
                 let b = &self.beams[(k + n).wrapping_add_signed(d) % n];
-                angle_between(b.bearing, bearing) <= steps * step
-                    && b.reach >= range + gap
-                    && b.seen_from <= range
+                angle_between(b.bearing, bearing) <= steps * step && b.went_past(range, gap)
             })
+    }
+
+    /// False when no place `k` the bearing of `v` may take among the beams' (the count of beams
+    /// below it) has beams `k − 2 ..= k + 1` (around the seam) that all went past `range` + `gap`:
+    /// [`Self::appeared`] is false then whatever the bearings. Needs `by_pseudo`.
+    fn may_have_appeared(&mut self, v: Vector2<f64>, range: f64, gap: f64) -> bool {
+        let q = pseudo_angle(v);
+        if q.is_nan() {
+            return true;
+        }
+        let n = self.beams.len();
+        // Beams more than the margin below `q` have lower bearings, more than it above higher ones.
+        let lo = self.rank(q - PSEUDO_MARGIN);
+        let mut hi = lo;
+        while hi < n && self.beams[hi].pseudo <= q + PSEUDO_MARGIN {
+            hi += 1;
+        }
+        self.hint = lo;
+        // Beam `j` for j in n − 2 ..= 2n + 1: `j mod n` without a division.
+        let past = |j: usize| {
+            let j = if j >= n { j - n } else { j };
+            self.beams[if j >= n { j - n } else { j }].went_past(range, gap)
+        };
+        (lo..=hi).any(|k| (k + n - 2..k + n + 2).all(past))
+    }
+
+    /// How many beams have a pseudo-angle below `x`, searched from the last search's end.
+    fn rank(&self, x: f64) -> usize {
+        let b = &self.beams;
+        let mut k = self.hint.min(b.len());
+        // A few beams either way, then a binary search.
+        for _ in 0..4 {
+            if k < b.len() && b[k].pseudo < x {
+                k += 1;
+            } else if k > 0 && b[k - 1].pseudo >= x {
+                k -= 1;
+            } else {
+                return k;
+            }
+        }
+        if k < b.len() && b[k].pseudo < x {
+            k + b[k..].partition_point(|s| s.pseudo < x)
+        } else if k > 0 && b[k - 1].pseudo >= x {
+            b[..k].partition_point(|s| s.pseudo < x)
+        } else {
+            k
+        }
     }
 }
 
@@ -130,8 +267,9 @@ impl Appearances {
         self.cells.clear();
         let hits = frame.beams().iter().filter(|b| b.kind == BeamEnd::Hit);
         for b in hits {
-            if let Some(i) = g.cell_of(b.end).and_then(|c| g.index(c))
-                && self.previous.appeared(b.end, gap)
+            // The ray test first: it turns down most returns, sparing their cells' look-up.
+            if self.previous.appeared(b.end, gap)
+                && let Some(i) = g.cell_of(b.end).and_then(|c| g.index(c))
             {
                 self.cells.push(i as u32);
             }
@@ -144,6 +282,27 @@ impl Appearances {
     /// Whether a return in cell `i` appeared in the frame last observed.
     pub(crate) fn contains(&self, i: usize) -> bool {
         u32::try_from(i).is_ok_and(|i| self.cells.binary_search(&i).is_ok())
+    }
+}
+
+/// A number that rises with the bearing `atan2(v.y, v.x)`: over [−2, 2] as the bearing over
+/// [−π, π], with the seam in the same place (the sign of a zero `y` picks its side, as for `atan2`).
+/// NaN for a zero or overflowing vector. It is the distance walked along the unit diamond
+/// |x| + |y| = 1 from +x, and grows at least half as fast as the bearing.
+#[inline]
+fn pseudo_angle(v: Vector2<f64>) -> f64 {
+    let (x, y) = (v.x, v.y);
+    let l1 = x.abs() + y.abs();
+    if !(l1 > 0.0 && l1.is_finite()) {
+        return f64::NAN;
+    }
+    let t = y / l1;
+    if x >= 0.0 {
+        t
+    } else if y.is_sign_negative() {
+        -2.0 - t
+    } else {
+        2.0 - t
     }
 }
 
@@ -334,6 +493,202 @@ mod tests {
             "under the lowest ray"
         );
     }
+
+    /// The rule in its straightforward form: every bearing by `atan2`, a sort, a binary search.
+    struct Reference {
+        sensor: Point2<f64>,
+        /// (bearing, reach, seen_from), sorted by bearing.
+        beams: Vec<(f64, f64, f64)>,
+        step: f64,
+    }
+
+    impl Reference {
+        fn new(frame: &RangeFrame) -> Self {
+            let s = frame.sensor();
+            let mut beams: Vec<(f64, f64, f64)> = frame
+                .beams()
+                .iter()
+                .map(|b| {
+                    let v = b.end - s;
+                    (v.y.atan2(v.x), v.norm(), b.seen_from)
+                })
+                .collect();
+            beams.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut gaps: Vec<f64> = beams.windows(2).map(|w| w[1].0 - w[0].0).collect();
+            let step = if gaps.is_empty() {
+                0.0
+            } else {
+                let mid = gaps.len() / 2;
+                *gaps.select_nth_unstable_by(mid, f64::total_cmp).1
+            };
+            Self {
+                sensor: s,
+                beams,
+                step,
+            }
+        }
+
+        fn appeared(&self, p: Point2<f64>, gap: f64) -> bool {
+            let n = self.beams.len();
+            if n < 3 || self.step <= 0.0 {
+                return false;
+            }
+            let v = p - self.sensor;
+            let range = v.norm();
+            if !(range > 0.0 && range.is_finite()) {
+                return false;
+            }
+            let bearing = v.y.atan2(v.x);
+            let k = self.beams.partition_point(|b| b.0 < bearing);
+            [
+                (-2, OUTER_STEPS),
+                (-1, BRACKET_STEPS),
+                (0, BRACKET_STEPS),
+                (1, OUTER_STEPS),
+            ]
+            .into_iter()
+            .all(|(d, steps)| {
+                let (b, reach, seen_from) = self.beams[(k + n).wrapping_add_signed(d) % n];
+                angle_between(b, bearing) <= steps * self.step
+                    && reach >= range + gap
+                    && seen_from <= range
+            })
+        }
+    }
+
+    #[test]
+    fn the_fast_form_decides_as_the_straightforward_one() {
+        // Invariant: on many seeded random frames (fans either way round, shuffled, across the ±π
+        // seam, with gaps, repeated directions and zero-length beams) and returns (on the previous
+        // beams' own directions too), the pseudo-angle form decides every return exactly as the
+        // atan2-per-beam form.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let (mut tested, mut fired, mut fast_frames, mut slow_frames) = (0, 0, 0, 0);
+        for frame_no in 0..400 {
+            let s0 = Point2::new(rng.random_range(-10.0..10.0), rng.random_range(-10.0..10.0));
+            let layout = frame_no % 7;
+            let n: usize = rng.random_range(3..400);
+            let step = [0.25_f64, 0.5, 1.0][rng.random_range(0..3)].to_radians();
+            let start = if layout == 6 {
+                -std::f64::consts::PI
+            } else {
+                rng.random_range(-std::f64::consts::PI..std::f64::consts::PI)
+            };
+            let n = if layout == 6 { 360 } else { n };
+            let step = if layout == 6 { 1f64.to_radians() } else { step };
+            // Ranges: a few flat stretches with noise, some beams clear at the limit.
+            let mut level = rng.random_range(0.5..8.0);
+            let mut beams: Vec<Beam> = Vec::new();
+            for k in 0..n {
+                if rng.random_bool(0.05) {
+                    level = rng.random_range(0.5..8.0);
+                }
+                if layout == 3 && rng.random_bool(0.2) {
+                    continue; // a column without data
+                }
+                let b = start + k as f64 * step;
+                let r = level + rng.random_range(-0.02..0.02);
+                let clear = rng.random_bool(0.2);
+                let seen_from = if rng.random_bool(0.3) {
+                    rng.random_range(0.0..1.5)
+                } else {
+                    0.0
+                };
+                let end = if layout == 5 && rng.random_bool(0.01) {
+                    s0
+                } else {
+                    s0 + r * nalgebra::Vector2::new(b.cos(), b.sin())
+                };
+                let kind = if clear { BeamEnd::Clear } else { BeamEnd::Hit };
+                beams.push(Beam {
+                    end,
+                    kind,
+                    seen_from,
+                });
+                if layout == 4 && rng.random_bool(0.05) {
+                    // The same direction again, another range.
+                    let e = s0 + (end - s0) * rng.random_range(0.5..1.5);
+                    beams.push(Beam {
+                        end: e,
+                        kind,
+                        seen_from,
+                    });
+                }
+            }
+            match layout {
+                1 => beams.reverse(),
+                2 => {
+                    for k in (1..beams.len()).rev() {
+                        beams.swap(k, rng.random_range(0..=k));
+                    }
+                }
+                _ => {}
+            }
+            let mut frame = RangeFrame::new(s0).expect("finite");
+            for &b in &beams {
+                frame.push_beam(b);
+            }
+            let reference = Reference::new(&frame);
+            let mut fast = PreviousBeams::default();
+            fast.remember(&frame);
+            if fast.by_pseudo {
+                fast_frames += 1;
+            } else {
+                slow_frames += 1;
+            }
+            // Returns of the next frame: from a sensor moved a little (or not at all), inside and
+            // around the previous ranges; on previous beams' own directions; anywhere.
+            let s1 = if rng.random_bool(0.3) {
+                s0
+            } else {
+                s0 + nalgebra::Vector2::new(
+                    rng.random_range(-0.1..0.1),
+                    rng.random_range(-0.1..0.1),
+                )
+            };
+            let mut points = Vec::new();
+            for k in 0..2 * n {
+                let b = start + (k as f64 * 0.5 + rng.random_range(-0.5..0.5)) * step;
+                let r = rng.random_range(0.1..9.0);
+                points.push(s1 + r * nalgebra::Vector2::new(b.cos(), b.sin()));
+            }
+            for b in beams.iter().step_by(3) {
+                points.push(s0 + (b.end - s0) * rng.random_range(0.2..1.1));
+                points.push(b.end);
+            }
+            for _ in 0..20 {
+                points.push(Point2::new(
+                    rng.random_range(-20.0..20.0),
+                    rng.random_range(-20.0..20.0),
+                ));
+            }
+            points.push(s0);
+            if rng.random_bool(0.5) {
+                points.reverse();
+            }
+            for &p in &points {
+                let gap = [0.0, 0.06, 0.2][rng.random_range(0..3)];
+                let want = reference.appeared(p, gap);
+                assert_eq!(
+                    fast.appeared(p, gap),
+                    want,
+                    "frame {frame_no}, {p}, gap {gap}"
+                );
+                tested += 1;
+                fired += usize::from(want);
+            }
+        }
+        assert!(
+            tested > 100_000 && fired > 10_000,
+            "{tested} tested, {fired} appeared"
+        );
+        assert!(
+            fast_frames > 200 && slow_frames > 20,
+            "{fast_frames} fast, {slow_frames} not"
+        );
+    }
+
     /// A 6 m × 2 m grid of 5 cm cells with the default rules, lower-left corner at (0, −1).
     fn hallway() -> crate::grid::ObstacleGrid {
         crate::grid::ObstacleGrid::from_extent(Point2::new(0.0, -1.0), [6.0, 2.0], 0.05)

@@ -59,7 +59,8 @@ pub(crate) fn decide_hit(
     if movable::retained(class) {
         return HitDecision::MovableUnlessMotion;
     }
-    let rested = stationary::returned_around(l, g, i, f);
+    let place = stationary::in_place(l, g, i, f);
+    let (rested, three_frames) = (place.rested, place.three_frames);
     if movable::extended(l, g, i, class, rested) {
         return HitDecision::ExtendUnlessMotion;
     }
@@ -72,17 +73,24 @@ pub(crate) fn decide_hit(
         if moving::near_confirmed_motion(l, i, f) {
             return HitDecision::RestCandidate;
         }
-        return match passive_rest(l, g, i, f, class) {
+        return match passive_rest(l, g, i, class, three_frames) {
             HitDecision::Set(c, r) => HitDecision::MovingUnlessStill(c, r),
             d => d,
         };
     }
-    passive_rest(l, g, i, f, class)
+    passive_rest(l, g, i, class, three_frames)
 }
 
-/// The stationary test (Tamura 3.3 with Chen's neighbours) for a return no motion rule claimed.
-fn passive_rest(l: &Layers, g: &GridGeometry, i: usize, f: u32, class: CellClass) -> HitDecision {
-    if stationary::three_frames(l, g, i, f) && !movable::touches_movable(l, g, i) {
+/// The stationary test (Tamura 3.3 with Chen's neighbours) for a return no motion rule claimed;
+/// `three_frames` is [`stationary::InPlace::three_frames`] of it.
+fn passive_rest(
+    l: &Layers,
+    g: &GridGeometry,
+    i: usize,
+    class: CellClass,
+    three_frames: bool,
+) -> HitDecision {
+    if three_frames && !movable::touches_movable(l, g, i) {
         HitDecision::Set(CellClass::Stationary, Rule::Stationary)
     } else if class == CellClass::Stationary {
         HitDecision::Keep

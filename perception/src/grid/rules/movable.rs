@@ -32,10 +32,31 @@ pub(crate) fn extended(
         pack_rule(Rule::MovableRetention),
     ];
     let mut near = false;
-    g.for_square(i, EXTENSION_REACH, |j| {
-        near |= l.class[j] == CellClass::Movable as u8 && sources.contains(&l.evidence[j]);
+    // Only a row holding a movable cell can hold a source.
+    g.for_square_rows(i, EXTENSION_REACH, |row| {
+        if !near && holds(&l.class, row.clone(), MOVABLE) {
+            near = row.into_iter().any(|j| {
+                l.class[j] == CellClass::Movable as u8 && sources.contains(&l.evidence[j])
+            });
+        }
     });
     near
+}
+
+const MOVABLE: u8 = CellClass::Movable as u8;
+
+/// Whether `bytes[row]` (nothing if out of range) holds `b`: a row of up to eight bytes at once.
+#[inline]
+fn holds(bytes: &[u8], row: std::ops::RangeInclusive<usize>, b: u8) -> bool {
+    let (from, len) = (*row.start(), row.clone().count());
+    let Some(cells) = bytes.get(row) else {
+        return false;
+    };
+    match bytes.get(from..).and_then(|c| c.first_chunk::<8>()) {
+        // Bytes past the row do not count.
+        Some(word) if len <= 8 => equal_bytes(u64::from_le_bytes(*word), b) & first_bytes(len) != 0,
+        _ => cells.contains(&b),
+    }
 }
 
 /// How far (cells, Chebyshev) a movable label extends from a cell found by addition or retention.
@@ -45,14 +66,50 @@ pub(crate) const EXTENSION_REACH: usize = 3;
 /// is never made stationary (it stays tentative), so a movable obstacle's fringe — returns jittering
 /// across a cell boundary along its face — cannot turn into a wall.
 pub(crate) fn touches_movable(l: &Layers, g: &GridGeometry, i: usize) -> bool {
-    let mut near = false;
-    g.for_square_rows(i, EXTENSION_REACH, |row| {
-        near |= l
-            .class
-            .get(row)
-            .is_some_and(|c| c.contains(&(CellClass::Movable as u8)));
-    });
-    near
+    let (w, h) = (g.width(), g.height());
+    let (x, y) = (i % w, i / w);
+    let (x0, x1) = (
+        x.saturating_sub(EXTENSION_REACH),
+        (x + EXTENSION_REACH).min(w - 1),
+    );
+    let (y0, y1) = (
+        y.saturating_sub(EXTENSION_REACH),
+        (y + EXTENSION_REACH).min(h - 1),
+    );
+    let class = l.class.as_slice();
+    let len = (x1 + 1).saturating_sub(x0);
+    if len > 8 || y1 * w + x0 + 8 > class.len() {
+        let mut near = false;
+        g.for_square_rows(i, EXTENSION_REACH, |row| {
+            near = near || holds(class, row, MOVABLE);
+        });
+        return near;
+    }
+    // One word a row, from the row's first cell of the block; bytes past the block do not count.
+    let mut movable = 0;
+    for yy in y0..=y1 {
+        let a = yy * w + x0;
+        let word = class.get(a..).and_then(|c| c.first_chunk::<8>());
+        movable |= word.map_or(0, |b| equal_bytes(u64::from_le_bytes(*b), MOVABLE));
+    }
+    movable & first_bytes(len) != 0
+}
+
+/// The top bit of each byte of `v` that equals `b`, and no other bit.
+#[inline]
+fn equal_bytes(v: u64, b: u8) -> u64 {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+    // A byte of `x` is zero exactly where `v` holds `b`; the carry-free test below sets the top bit
+    // of every non-zero byte.
+    let x = v ^ (ONES * u64::from(b));
+    !(((x & LOW7) + LOW7) | x) & !LOW7
+}
+
+/// The bits of the first `n` bytes (n ≤ 8).
+#[inline]
+fn first_bytes(n: usize) -> u64 {
+    if n >= 8 { !0 } else { (1u64 << (8 * n)) - 1 }
 }
 
 /// Addition (Tamura 3.2.1): a return near last frame's moving returns, in place for three frames,
@@ -161,5 +218,66 @@ mod tests {
         l.record_hit(44, 4);
         l.record_crossing(44, 5, Crossing::Free);
         assert!(!vacated(&l, &g, 44, 5), "crossed just before a return only");
+    }
+
+    #[test]
+    fn a_row_holds_a_byte_as_contains_says() {
+        // Invariant: holds(bytes, row, b) is bytes[row].contains(&b) (false out of range) for rows of
+        // every length and place, the grid's end included, over every byte value next to the row.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut found = 0;
+        for _ in 0..20_000 {
+            let n = rng.random_range(1..40);
+            let bytes: Vec<u8> = (0..n)
+                .map(|_| match rng.random_range(0..4) {
+                    0 => rng.random(),
+                    k => k as u8 + 1,
+                })
+                .collect();
+            let from = rng.random_range(0..n + 2);
+            let to = from + rng.random_range(0..12);
+            let b = rng.random_range(0..6);
+            let want = bytes.get(from..=to).is_some_and(|c| c.contains(&b));
+            assert_eq!(
+                holds(&bytes, from..=to, b),
+                want,
+                "{bytes:?} {from}..={to} {b}"
+            );
+            found += usize::from(want);
+        }
+        assert!(found > 3000);
+    }
+
+    #[test]
+    fn the_word_test_for_movable_neighbours_agrees_with_the_cell_test() {
+        // Invariant: touches_movable is "some cell within EXTENSION_REACH (Chebyshev) is Movable",
+        // cell by cell, on random class maps of grids of several widths, at every cell, borders too.
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let mut near = 0;
+        for (w, h) in [(10, 10), (7, 13), (30, 4), (3, 3), (64, 9)] {
+            let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), w, h, 0.05).expect("valid");
+            for _ in 0..20 {
+                let mut l = Layers::new(g.len());
+                let p = rng.random_range(0.0..0.05);
+                for c in l.class.iter_mut() {
+                    *c = if rng.random_bool(p) {
+                        CellClass::Movable as u8
+                    } else {
+                        rng.random_range(0..5u8).min(2)
+                    };
+                }
+                for i in 0..g.len() {
+                    let mut want = false;
+                    g.for_square(i, EXTENSION_REACH, |j| {
+                        want |= l.class[j] == CellClass::Movable as u8
+                    });
+                    assert_eq!(touches_movable(&l, &g, i), want, "{w}x{h} cell {i}");
+                    near += usize::from(want);
+                }
+            }
+        }
+        assert!(near > 1000);
     }
 }

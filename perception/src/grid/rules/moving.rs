@@ -1,7 +1,7 @@
 //! Moving obstacles (Tamura 3.1): a return where the previous frame saw free space.
 
 use super::super::class::CellClass;
-use super::super::geometry::GridGeometry;
+use super::super::geometry::{GridGeometry, floor};
 use super::super::layers::Layers;
 
 /// Tamura 3.1: the cell holds a return now and was in the visible area V_{t−1} (and V_{t−2}) as free
@@ -66,7 +66,8 @@ const MAX_QUIET: usize = 4;
 /// 8-neighbourhood), capped at [`MAX_QUIET`] cells.
 pub(crate) fn quiet_radius(range: f64, beam_step: f64, resolution: f64) -> usize {
     let half_spacing = range * beam_step / (2.0 * GRAZING_LIMIT_DEG.to_radians().sin());
-    let cells = (half_spacing / resolution).ceil();
+    // ceil(x) = −floor(−x), bit for bit; the inline floor spares a library call per return.
+    let cells = -floor(-(half_spacing / resolution));
     if cells.is_finite() {
         (cells as usize).clamp(1, MAX_QUIET)
     } else {
