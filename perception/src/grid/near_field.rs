@@ -20,7 +20,7 @@ use nalgebra::Vector2;
 
 #[cfg(doc)]
 use super::frame::Beam;
-use super::geometry::{GridGeometry, floor};
+use super::geometry::GridGeometry;
 
 /// Nearest the sensor the fill may start (cells): nearer, a cell subtends so much that the
 /// half-plane tests below would not describe its bearings.
@@ -44,88 +44,140 @@ pub(crate) struct Reach {
     pub far_to: f64,
 }
 
+/// One part of a fan: a run of beams less than 90° wide, with the radius out to which its cells
+/// are filled.
+#[derive(Clone, Copy, Debug)]
+struct Part {
+    /// Its first and last beam (indices into the frame's beams).
+    beams: (usize, usize),
+    /// Its first and last bearing, counter-clockwise (unit vectors).
+    first: Vector2<f64>,
+    last: Vector2<f64>,
+    /// Outer radius (cells); the part is not filled unless it exceeds the inner one enough.
+    r_out: f64,
+}
+
+impl Part {
+    /// Whether the part's annulus, from `r_in` out, is deep enough to fill.
+    fn filled(&self, r_in: f64) -> bool {
+        let depth = self.r_out - r_in;
+        self.r_out.is_finite() && depth > MIN_DEPTH + 2.0 * std::f64::consts::SQRT_2
+    }
+}
+
 /// The annulus of a frame's dense fan (see the module).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct NearField {
     /// The sensor (grid units).
     sensor: (f64, f64),
-    /// Inner and outer radius (cells).
+    /// Inner radius (cells), the same for every part.
     r_in: f64,
-    r_out: f64,
-    /// The fan's parts, each as its first and last bearing (unit vectors, counter-clockwise, less
-    /// than 90° apart).
-    parts: Vec<(Vector2<f64>, Vector2<f64>)>,
+    /// The fan's parts, in beam order, each sharing its edge beams with its neighbours.
+    parts: Vec<Part>,
 }
+
+/// Beams per part at most: each part has its own outer radius, so a near return only shortens
+/// the parts it can reach; but every part's rows are visited.
+const PART_BEAMS: usize = 1024;
 
 impl NearField {
     /// The near field of beams `reach` (in bearing order, either way round) from `sensor`, or `None`
     /// when they are not a fan dense enough to save walking.
+    ///
+    /// Each part's outer radius is the least of its density bound (`1 / Δ` for its widest gap Δ)
+    /// and the reach of every beam that could cross one of its cells beyond that beam's reach: a
+    /// cell whose nearest point is `ρ` away spans at most `2·asin(√½ / ρ)` of bearing, so a beam
+    /// whose reach is `R` can only cross cells of parts within `2·asin(√½ / (R − √2))` of its
+    /// bearing beyond `R`.
     pub(crate) fn of(
         geom: &GridGeometry,
         sensor: nalgebra::Point2<f64>,
         reach: &[Reach],
     ) -> Option<Self> {
-        if reach.len() < 2 {
+        let n = reach.len();
+        if n < 2 {
             return None;
         }
         let res = geom.resolution();
-        // Bearing order: every turn from one beam to the next the same way, each under 90°.
+        // Bearing order: every turn from one beam to the next the same way, each under 90°; the
+        // gaps' sines.
         let ccw = reach[0].direction.perp(&reach[1].direction) > 0.0;
-        let mut widest = 0.0_f64; // sine of the widest gap
+        let mut gaps = Vec::with_capacity(n - 1);
         for w in reach.windows(2) {
             let (a, b) = (w[0].direction, w[1].direction);
             let (cross, dot) = (a.perp(&b), a.dot(&b));
-            let n = a.norm() * b.norm();
-            if !(n > 0.0 && dot > 0.0 && (cross > 0.0) == ccw && cross != 0.0) {
+            let norms = a.norm() * b.norm();
+            if !(norms > 0.0 && dot > 0.0 && (cross > 0.0) == ccw && cross != 0.0) {
                 return None;
             }
-            widest = widest.max(cross.abs() / n);
+            gaps.push((cross.abs() / norms).min(1.0));
         }
-        let gap = widest.min(1.0).asin();
-        if gap.is_nan() || gap <= 0.0 {
-            return None;
-        }
+        let narrowest = gaps.iter().copied().fold(1.0, f64::min).asin();
         let seen = reach.iter().map(|r| r.seen_from).fold(0.0, f64::max) / res;
-        let far = reach.iter().map(|r| r.far_to).fold(f64::INFINITY, f64::min) / res;
         let r_in = (seen + SLACK).max(MIN_INNER);
-        let r_out = far.min((1.0 - SLACK) / gap);
-        let depth = r_out - r_in;
-        if depth.is_nan()
-            || depth <= MIN_DEPTH + 2.0 * std::f64::consts::SQRT_2
-            || !r_out.is_finite()
-        {
-            return None;
-        }
-        // Counter-clockwise parts under 90° each, sharing their edge beams.
-        let mut dirs: Vec<Vector2<f64>> = reach.iter().map(|r| r.direction.normalize()).collect();
-        if !ccw {
-            dirs.reverse();
-        }
+        // The parts, each bounded by its own density.
+        let unit = |k: usize| reach[k].direction.normalize();
         let mut parts = Vec::new();
         let mut start = 0;
-        for k in 1..dirs.len() {
-            let last = k + 1 == dirs.len();
-            if last || dirs[start].dot(&dirs[k + 1]) <= SLACK {
-                parts.push((dirs[start], dirs[k]));
-                start = k;
+        while start + 1 < n {
+            let first = unit(start);
+            let mut end = start + 1;
+            while end + 1 < n && end - start + 1 < PART_BEAMS && first.dot(&unit(end + 1)) > SLACK {
+                end += 1;
+            }
+            let widest = gaps[start..end].iter().copied().fold(0.0, f64::max).asin();
+            let (a, b) = (first, unit(end));
+            let (first, last) = if ccw { (a, b) } else { (b, a) };
+            parts.push(Part {
+                beams: (start, end),
+                first,
+                last,
+                r_out: (1.0 - SLACK) / widest,
+            });
+            start = end;
+        }
+        // Each beam bounds the parts it can reach (only a beam short of some part's radius can).
+        let widest_reach = parts.iter().map(|p| p.r_out).fold(0.0, f64::max);
+        for (k, r) in reach.iter().enumerate() {
+            let far = r.far_to / res;
+            if far >= widest_reach {
+                continue;
+            }
+            let spread = if far - std::f64::consts::SQRT_2 > std::f64::consts::FRAC_1_SQRT_2 {
+                2.0 * (std::f64::consts::FRAC_1_SQRT_2 / (far - std::f64::consts::SQRT_2)).asin()
+            } else {
+                std::f64::consts::PI
+            };
+            let within = ceil((spread / narrowest).min(n as f64)) as usize + 1;
+            let (lo, hi) = (k.saturating_sub(within), k + within);
+            for p in parts
+                .iter_mut()
+                .filter(|p| p.beams.0 <= hi && p.beams.1 >= lo)
+            {
+                p.r_out = p.r_out.min(far);
             }
         }
-        if parts.is_empty() {
+        if !parts.iter().any(|p| p.filled(r_in)) {
             return None;
         }
         Some(Self {
             sensor: geom.grid_coords(sensor),
             r_in,
-            r_out,
             parts,
         })
     }
 
-    /// The distances (m) from the sensor between which no beam needs walking: from the inner
-    /// radius plus a cell diagonal to the outer radius less one.
-    pub(crate) fn skipped(&self, resolution: f64) -> (f64, f64) {
+    /// The distances (m) from the sensor between which beam `k` needs no walking, if any: from the
+    /// inner radius plus a cell diagonal to the outer radius of its parts less one.
+    pub(crate) fn skipped(&self, k: usize, resolution: f64) -> Option<(f64, f64)> {
         let d = std::f64::consts::SQRT_2 + SLACK;
-        ((self.r_in + d) * resolution, (self.r_out - d) * resolution)
+        let at = self.parts.partition_point(|p| p.beams.1 < k);
+        let mut r_out = f64::INFINITY;
+        for p in self.parts.get(at..)?.iter().take_while(|p| p.beams.0 <= k) {
+            r_out = r_out.min(p.r_out);
+        }
+        let (near, far) = (self.r_in + d, r_out - d);
+        (far - near > MIN_DEPTH).then_some((near * resolution, far * resolution))
     }
 
     /// Calls `run(y, x0, x1)` for runs of cells `x0..=x1` of row `y` that the fill marks far (each
@@ -133,15 +185,27 @@ impl NearField {
     pub(crate) fn fill(&self, geom: &GridGeometry, mut run: impl FnMut(usize, usize, usize)) {
         let (sx, sy) = self.sensor;
         let (w, h) = (geom.width() as f64, geom.height() as f64);
-        let (r_in, r_out) = (self.r_in, self.r_out);
-        for &(f, l) in &self.parts {
+        let r_in = self.r_in;
+        for part in &self.parts {
+            let (f, l, r_out) = (part.first, part.last, part.r_out);
+            if !part.filled(r_in) {
+                continue;
+            }
             let m = f + l; // the part's middle bearing (not normalised: only its sign is used)
             // The rows the part's wedge reaches (a cell more each way: cells overlap it).
             let within = |d: Vector2<f64>| f.perp(&d) >= 0.0 && d.perp(&l) >= 0.0;
-            let up = if within(Vector2::y()) { 1.0 } else { f.y.max(l.y).max(0.0) };
-            let down = if within(-Vector2::y()) { -1.0 } else { f.y.min(l.y).min(0.0) };
-            let y0 = (floor(sy + r_out * down) - 1.0).max(0.0);
-            let y1 = (floor(sy + r_out * up) + 1.0).min(h - 1.0);
+            let up = if within(Vector2::y()) {
+                1.0
+            } else {
+                f.y.max(l.y).max(0.0)
+            };
+            let down = if within(-Vector2::y()) {
+                -1.0
+            } else {
+                f.y.min(l.y).min(0.0)
+            };
+            let y0 = (floor_of(sy + r_out * down) - 1.0).max(0.0);
+            let y1 = (floor_of(sy + r_out * up) + 1.0).min(h - 1.0);
             let mut y = y0;
             while y <= y1 {
                 let (ya, yb) = (y - sy, y + 1.0 - sy);
@@ -150,7 +214,7 @@ impl NearField {
                     // All four corners within r_out.
                     let half = (r_out * r_out - y_far * y_far).sqrt();
                     let mut lo = ceil(sx - half);
-                    let mut hi = floor(sx + half) - 1.0;
+                    let mut hi = floor_of(sx + half) - 1.0;
                     // All corners in front of the part (its middle bearing).
                     let (a, b) = (m.x, m.y * if m.y >= 0.0 { ya } else { yb });
                     (lo, hi) = clip(lo, hi, a, b, m.x < 0.0, sx);
@@ -173,7 +237,7 @@ impl NearField {
                         emit(row, lo, hi, &mut run);
                     } else {
                         let v = (r_in * r_in - y_near * y_near).sqrt();
-                        emit(row, lo, hi.min(floor(sx - v) - 1.0), &mut run);
+                        emit(row, lo, hi.min(floor_of(sx - v) - 1.0), &mut run);
                         emit(row, lo.max(ceil(sx + v)), hi, &mut run);
                     }
                 }
@@ -189,7 +253,7 @@ fn clip(lo: f64, hi: f64, a: f64, b: f64, right: bool, sx: f64) -> (f64, f64) {
     let off = if right { 1.0 } else { 0.0 };
     if a > 0.0 {
         // x > sx − off − b / a
-        (lo.max(floor(sx - off - b / a) + 1.0), hi)
+        (lo.max(floor_of(sx - off - b / a) + 1.0), hi)
     } else if a < 0.0 {
         (lo, hi.min(ceil(sx - off - b / a) - 1.0))
     } else if b > 0.0 {
@@ -199,9 +263,18 @@ fn clip(lo: f64, hi: f64, a: f64, b: f64, right: bool, sx: f64) -> (f64, f64) {
     }
 }
 
-/// `x.ceil()` without a library call (see [`floor`]).
+/// `x.floor()` for the fill's bounds, without a library call or a branch (the grid's own `floor`
+/// branches on the sign and fraction, which a row's bounds make unpredictable). Exact for
+/// |x| < 10¹⁵; a bound beyond that lies outside any grid and is clamped to it anyway.
+fn floor_of(x: f64) -> f64 {
+    let x = x.clamp(-1e15, 1e15);
+    let t = x as i64 as f64;
+    t - f64::from(u8::from(t > x))
+}
+
+/// `x.ceil()`, likewise.
 fn ceil(x: f64) -> f64 {
-    -floor(-x)
+    -floor_of(-x)
 }
 
 /// Calls `run` for cells `lo..=hi` of `row` if there are any.

@@ -156,16 +156,6 @@ impl Cuts {
     pub(crate) fn level(&self, t_exit: f64) -> u8 {
         self.kind(t_exit).map_or(0, Crossing::level)
     }
-
-    /// The smallest cut at or after `t` (infinite if none): [`Self::kind`] is the same for every
-    /// exit parameter from `t` up to it.
-    #[inline]
-    fn next(&self, t: f64) -> f64 {
-        [self.seen, self.far, self.free]
-            .into_iter()
-            .filter(|&c| c >= t)
-            .fold(f64::INFINITY, |a, c| if c < a { c } else { a })
-    }
 }
 
 impl Traversal {
@@ -213,10 +203,27 @@ impl Traversal {
             if ab < t_end { ab } else { t_end }
         };
         // The level holds until the exit parameter passes `cut`; min(a, b, t_end) > cut is tested
-        // as a > cut && b > cut, with cuts at or beyond t_end never passed.
+        // as a > cut && b > cut, with cuts at or beyond t_end never passed. In fixed point, as
+        // running maxima (so that the kind is the number of them passed).
         let fold = |c: f64| if c < t_end { fixed(c) } else { i64::MAX };
-        let t0 = exit(a, b);
-        let (mut level, mut cut) = (cuts.level(t0), fold(cuts.next(t0)));
+        let c1 = cuts.seen;
+        let c2 = c1.max(cuts.far);
+        let c3 = c2.max(cuts.free);
+        let passes = [fold(c1), fold(c2), fold(c3), i64::MAX];
+        let levels = [
+            0,
+            Crossing::Far.level(),
+            Crossing::Free.level(),
+            Crossing::Near.level(),
+        ];
+        let at = |a: i64, b: i64| {
+            let m = a.min(b);
+            let k = usize::from(m > passes[0])
+                + usize::from(m > passes[1])
+                + usize::from(m > passes[2]);
+            (levels[k], passes[k])
+        };
+        let (mut level, mut cut) = at(a, b);
         // The skippable stretch, as a cut of its own: once a cell's exit passes its start, the
         // walk jumps to the cell holding its end.
         let (mut skip_from, skip_to) = match skippable {
@@ -228,8 +235,9 @@ impl Traversal {
         let mut next = cut.min(skip_from);
         while remaining > 1 {
             if a > next && b > next {
-                let t = exit(a, b);
-                (level, cut) = (cuts.level(t), fold(cuts.next(t)));
+                if a > cut && b > cut {
+                    (level, cut) = at(a, b);
+                }
                 if a > skip_from && b > skip_from {
                     skip_from = i64::MAX;
                     // Past the stretch: as many boundaries of each axis as lie before its end.
@@ -243,8 +251,10 @@ impl Traversal {
                         a += kx * da;
                         b += ky * db;
                         remaining -= (kx + ky) as u64;
-                        let t = exit(a, b);
-                        (level, cut) = (cuts.level(t), fold(cuts.next(t)));
+                        // The level only changes if the stretch held a cut (not the near field's).
+                        if a > cut && b > cut {
+                            (level, cut) = at(a, b);
+                        }
                     }
                 }
                 next = cut.min(skip_from);
@@ -347,10 +357,11 @@ fn boundaries_before(start: i64, step: i64, end: i64) -> i64 {
     }
     // A float estimate made exact by integer checks (off by rounding only).
     let mut k = ((end - start) as f64 / step as f64) as i64;
-    while start + k * step < end {
+    let at = |k: i64| start.saturating_add(k.saturating_mul(step));
+    while at(k) < end {
         k += 1;
     }
-    while k > 0 && start + (k - 1) * step >= end {
+    while k > 0 && at(k - 1) >= end {
         k -= 1;
     }
     k
@@ -362,7 +373,9 @@ const ONE: f64 = (1_u64 << 52) as f64;
 /// A non-negative segment parameter in fixed point, saturated at 2⁶⁰ (far beyond the segment's 1:
 /// such a boundary is never crossed, and sums of two stay in range).
 fn fixed(t: f64) -> i64 {
-    const MAX: f64 = (1_u64 << 60) as f64;
+    // In the parameter's own units: 2⁶⁰ fixed-point units are 2⁸. (Comparing `t` itself with 2⁶⁰
+    // let parameters from 2¹¹ up convert to i64::MAX, and a step of that overflows.)
+    const MAX: f64 = (1_u64 << 60) as f64 / ONE;
     if t < MAX { (t * ONE) as i64 } else { 1 << 60 }
 }
 
@@ -535,6 +548,21 @@ mod tests {
             inside += usize::from(within(ax, bx, w) && within(ay, by, h));
         }
         assert!(inside > 50_000);
+    }
+
+    #[test]
+    fn far_boundaries_saturate_and_jumps_count_them_without_overflow() {
+        // Invariant: parameters beyond 2⁸ segment lengths are one saturated fixed-point value,
+        // sums of two of them stay in range, and counting boundaries before a point past such a
+        // step ends (one boundary).
+        assert_eq!(fixed(1e6), 1 << 60);
+        assert_eq!(fixed(f64::INFINITY), 1 << 60);
+        assert_eq!(fixed(3000.0), 1 << 60);
+        assert!(fixed(255.0) < 1 << 60);
+        assert!(fixed(1e6).checked_add(fixed(1e6)).is_some());
+        assert_eq!(boundaries_before(fixed(0.25), fixed(1e6), fixed(0.5)), 1);
+        assert_eq!(boundaries_before(fixed(0.25), fixed(0.1), fixed(0.5)), 3);
+        assert_eq!(boundaries_before(fixed(0.75), fixed(0.1), fixed(0.5)), 0);
     }
 
     #[test]
