@@ -102,17 +102,18 @@ impl NearField {
         // Bearing order: every turn from one beam to the next the same way, each under 90°; the
         // gaps' sines.
         let ccw = reach[0].direction.perp(&reach[1].direction) > 0.0;
+        // Squared sines: no square root per beam.
         let mut gaps = Vec::with_capacity(n - 1);
         for w in reach.windows(2) {
             let (a, b) = (w[0].direction, w[1].direction);
             let (cross, dot) = (a.perp(&b), a.dot(&b));
-            let norms = a.norm() * b.norm();
+            let norms = a.norm_squared() * b.norm_squared();
             if !(norms > 0.0 && dot > 0.0 && (cross > 0.0) == ccw && cross != 0.0) {
                 return None;
             }
-            gaps.push((cross.abs() / norms).min(1.0));
+            gaps.push((cross * cross / norms).min(1.0));
         }
-        let narrowest = gaps.iter().copied().fold(1.0, f64::min).asin();
+        let narrowest = gaps.iter().copied().fold(1.0, f64::min).sqrt().asin();
         let seen = reach.iter().map(|r| r.seen_from).fold(0.0, f64::max) / res;
         let r_in = (seen + SLACK).max(MIN_INNER);
         // The parts, each bounded by its own density.
@@ -120,13 +121,22 @@ impl NearField {
         let mut parts = Vec::new();
         let mut start = 0;
         while start + 1 < n {
-            let first = unit(start);
+            let first = reach[start].direction;
             let mut end = start + 1;
-            while end + 1 < n && end - start + 1 < PART_BEAMS && first.dot(&unit(end + 1)) > SLACK {
+            // Under 90°, with a margin (the directions' lengths scale the dot product).
+            while end + 1 < n && end - start + 1 < PART_BEAMS && {
+                let d = reach[end + 1].direction;
+                first.dot(&d) > SLACK * (first.norm_squared() + d.norm_squared())
+            } {
                 end += 1;
             }
-            let widest = gaps[start..end].iter().copied().fold(0.0, f64::max).asin();
-            let (a, b) = (first, unit(end));
+            let widest = gaps[start..end]
+                .iter()
+                .copied()
+                .fold(0.0, f64::max)
+                .sqrt()
+                .asin();
+            let (a, b) = (unit(start), unit(end));
             let (first, last) = if ccw { (a, b) } else { (b, a) };
             parts.push(Part {
                 beams: (start, end),
@@ -192,6 +202,14 @@ impl NearField {
                 continue;
             }
             let m = f + l; // the part's middle bearing (not normalised: only its sign is used)
+            let planes = [
+                // All corners in front of the part (its middle bearing): min over corners m · c > 0.
+                HalfPlane::new(m.x, m.x < 0.0, m.y, m.y < 0.0),
+                // Some corner strictly counter-clockwise of its first bearing: max f × c > 0.
+                HalfPlane::new(-f.y, f.y <= 0.0, f.x, f.x >= 0.0),
+                // Some corner strictly clockwise of its last bearing: max −(l × c) > 0.
+                HalfPlane::new(l.y, l.y >= 0.0, -l.x, l.x <= 0.0),
+            ];
             // The rows the part's wedge reaches (a cell more each way: cells overlap it).
             let within = |d: Vector2<f64>| f.perp(&d) >= 0.0 && d.perp(&l) >= 0.0;
             let up = if within(Vector2::y()) {
@@ -215,15 +233,9 @@ impl NearField {
                     let half = (r_out * r_out - y_far * y_far).sqrt();
                     let mut lo = ceil(sx - half);
                     let mut hi = floor_of(sx + half) - 1.0;
-                    // All corners in front of the part (its middle bearing).
-                    let (a, b) = (m.x, m.y * if m.y >= 0.0 { ya } else { yb });
-                    (lo, hi) = clip(lo, hi, a, b, m.x < 0.0, sx);
-                    // Some corner strictly counter-clockwise of its first bearing: f × c > 0.
-                    let (a, b) = (-f.y, f.x * if f.x >= 0.0 { yb } else { ya });
-                    (lo, hi) = clip(lo, hi, a, b, f.y <= 0.0, sx);
-                    // Some corner strictly clockwise of its last bearing: l × c < 0.
-                    let (a, b) = (l.y, -l.x * if l.x <= 0.0 { yb } else { ya });
-                    (lo, hi) = clip(lo, hi, a, b, l.y >= 0.0, sx);
+                    for plane in &planes {
+                        (lo, hi) = plane.clip(lo, hi, ya, yb, sx);
+                    }
                     lo = lo.max(0.0);
                     hi = hi.min(w - 1.0);
                     // Nearest point at least r_in away: a hole around the sensor's column.
@@ -247,29 +259,59 @@ impl NearField {
     }
 }
 
-/// Narrows cells `lo..=hi` of a row to those with `a·X + b > 0`, X the cell's corner column
-/// relative to the sensor: its right edge (`x + 1 − sx`) when `right`, else its left (`x − sx`).
-fn clip(lo: f64, hi: f64, a: f64, b: f64, right: bool, sx: f64) -> (f64, f64) {
-    let off = if right { 1.0 } else { 0.0 };
-    if a > 0.0 {
-        // x > sx − off − b / a
-        (lo.max(floor_of(sx - off - b / a) + 1.0), hi)
-    } else if a < 0.0 {
-        (lo, hi.min(ceil(sx - off - b / a) - 1.0))
-    } else if b > 0.0 {
-        (lo, hi)
-    } else {
-        (1.0, 0.0)
+/// One of a part's conditions on the cells of a row: `a·X + c·Y > 0` for the cell's corner column
+/// X (its right edge when `right`, else its left) and corner row Y (its upper edge when `upper`),
+/// both relative to the sensor: linear along the row, so it bounds the row's cells on one side.
+#[derive(Clone, Copy, Debug)]
+struct HalfPlane {
+    a: f64,
+    /// `1 / a` (0 when `a` is).
+    inv_a: f64,
+    right: f64,
+    c: f64,
+    upper: bool,
+}
+
+impl HalfPlane {
+    fn new(a: f64, right: bool, c: f64, upper: bool) -> Self {
+        Self {
+            a,
+            inv_a: if a != 0.0 { 1.0 / a } else { 0.0 },
+            right: if right { 1.0 } else { 0.0 },
+            c,
+            upper,
+        }
+    }
+
+    /// Narrows cells `lo..=hi` of the row whose cells' lower and upper edges are `ya` and `yb`
+    /// (relative to the sensor) to those meeting the condition.
+    #[inline]
+    fn clip(&self, lo: f64, hi: f64, ya: f64, yb: f64, sx: f64) -> (f64, f64) {
+        let b = self.c * if self.upper { yb } else { ya };
+        // a·(x + right − sx) + b > 0  ⇔  x > or < sx − right − b / a.
+        let at = sx - self.right - b * self.inv_a;
+        if self.a > 0.0 {
+            (lo.max(floor_of(at) + 1.0), hi)
+        } else if self.a < 0.0 {
+            (lo, hi.min(ceil(at) - 1.0))
+        } else if b > 0.0 {
+            (lo, hi)
+        } else {
+            (1.0, 0.0)
+        }
     }
 }
 
-/// `x.floor()` for the fill's bounds, without a library call or a branch (the grid's own `floor`
-/// branches on the sign and fraction, which a row's bounds make unpredictable). Exact for
-/// |x| < 10¹⁵; a bound beyond that lies outside any grid and is clamped to it anyway.
+/// `x.floor()` for the fill's bounds, without a library call, a branch (the grid's own `floor`
+/// branches on the sign and fraction, which a row's bounds make unpredictable) or a conversion.
+/// Exact for |x| < 10¹⁵; a bound beyond that lies outside any grid and is clamped to it anyway.
 fn floor_of(x: f64) -> f64 {
+    // Adding and taking away 1.5·2⁵² rounds to the nearest integer (exactly, for |x| < 2⁵¹);
+    // one less if that rounded up.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
     let x = x.clamp(-1e15, 1e15);
-    let t = x as i64 as f64;
-    t - f64::from(u8::from(t > x))
+    let r = (x + ROUND) - ROUND;
+    r - f64::from(u8::from(r > x))
 }
 
 /// `x.ceil()`, likewise.
