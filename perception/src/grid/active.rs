@@ -132,8 +132,7 @@ impl ObstacleGrid {
     }
 
     fn write_active(&mut self, i: usize, id: ObjectId, class: CellClass, push_test: u32, now: f64) {
-        let old = self.layers.class[i];
-        self.layers.class[i] = class as u8;
+        let old = self.layers.set_class(i, class as u8);
         self.layers.object[i] = id.0;
         self.layers.evidence[i] = pack_active(push_test);
         self.layers.marked_at[i] = now;

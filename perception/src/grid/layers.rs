@@ -53,11 +53,15 @@ pub(crate) struct Layers {
     /// a cell's last observation is its latest hit or crossing frame, looked up here, so a ray step
     /// writes no timestamp.
     pub stamps: Vec<f64>,
+    /// Bit `i % 64` of word `i / 64`: cell `i` is Free. Kept with `class` by [`Self::set_class`],
+    /// so that a frame finds the crossed cells that are not free a word at a time.
+    pub free: Vec<u64>,
 }
 
 impl Layers {
     pub fn new(n: usize) -> Self {
         Self {
+            free: vec![0; n.div_ceil(64)],
             class: vec![0; n],
             object: vec![NO_OBJECT; n],
             evidence: vec![0; n],
@@ -70,6 +74,21 @@ impl Layers {
             watch: vec![0; n],
             stamps: vec![f64::NAN],
         }
+    }
+
+    /// Sets cell `i`'s class code (and its bit in `free`); returns the old code.
+    #[inline]
+    pub fn set_class(&mut self, i: usize, class: u8) -> u8 {
+        let old = std::mem::replace(&mut self.class[i], class);
+        let bit = 1u64 << (i % 64);
+        if let Some(w) = self.free.get_mut(i / 64) {
+            if class == super::CellClass::Free as u8 {
+                *w |= bit;
+            } else {
+                *w &= !bit;
+            }
+        }
+        old
     }
 
     /// The object in slot `i`.

@@ -14,8 +14,6 @@ use super::visible::{CellBox, SlotWriter};
 use super::{GridError, ObstacleGrid};
 use nalgebra::Point2;
 
-const FREE: u8 = CellClass::Free as u8;
-
 /// How a frame's beams are walked (see [`Walk::beams`]).
 struct Walk<'a> {
     geom: &'a GridGeometry,
@@ -208,11 +206,11 @@ impl ObstacleGrid {
         // seen free again need nothing: their crossings are recorded as bits).
         s.crossed.clear();
         let l = &mut self.layers;
-        let class = l.class.as_slice();
+        let free = l.free.as_slice();
         let crossed = &mut s.crossed;
         l.visible.fold_levels(f, &mut s.level, walked, |k, bits| {
             let base = k * 64;
-            let mut bits = bits & not_free(class, base);
+            let mut bits = bits & !free.get(k).copied().unwrap_or(0);
             while bits != 0 {
                 crossed.push((base + bits.trailing_zeros() as usize) as u32);
                 bits &= bits - 1;
@@ -405,7 +403,7 @@ impl ObstacleGrid {
                     self.layers.confirmed[i] = f;
                 }
             } else {
-                self.layers.class[i] = CellClass::Unknown as u8;
+                self.layers.set_class(i, CellClass::Unknown as u8);
                 self.layers.evidence[i] = pack_rule(Rule::MovingExpired);
             }
         }
@@ -414,38 +412,11 @@ impl ObstacleGrid {
 
     /// Writes a passive class: evidence, no object, replanning check.
     fn write_passive(&mut self, i: usize, class: CellClass, rule: Rule, now: f64) {
-        let old = self.layers.class[i];
-        self.layers.class[i] = class as u8;
+        let old = self.layers.set_class(i, class as u8);
         self.layers.evidence[i] = pack_rule(rule);
         self.layers.object[i] = NO_OBJECT;
         self.check_watch(i, old, class, now);
     }
-}
-
-/// Bit j set when cell `base + j` is in the grid and not free.
-#[inline]
-fn not_free(class: &[u8], base: usize) -> u64 {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
-    let Some(cells) = class.get(base..base + 64) else {
-        // The grid's last, partial word.
-        return class
-            .iter()
-            .skip(base)
-            .enumerate()
-            .fold(0, |m, (j, &c)| m | u64::from(c != FREE) << j);
-    };
-    // Eight cells at a time: a byte of `v ^ FREE·ONES` is non-zero exactly when its cell is not free;
-    // its top bit after the carry-free test below, gathered by one multiplication.
-    let mut m = 0u64;
-    for (q, chunk) in cells.chunks_exact(8).enumerate() {
-        let mut b = [0u8; 8];
-        b.copy_from_slice(chunk);
-        let x = u64::from_le_bytes(b) ^ (ONES * u64::from(FREE));
-        let high = (((x & LOW7) + LOW7) | x) & !LOW7;
-        m |= ((high >> 7).wrapping_mul(0x0102_0408_1020_4080) >> 56) << (8 * q);
-    }
-    m
 }
 
 /// The mean angle (rad) between consecutive beams of `frame`, which come in bearing order from a
@@ -484,7 +455,8 @@ mod tests {
     fn filling_the_dense_near_field_marks_exactly_what_walking_every_beam_does() {
         // Invariant: with the near field filled instead of walked, every frame leaves every cell
         // crossed, seen free and crossed far exactly as walking every beam whole does, and so every
-        // class; over fans of all widths, densities, orders, ranges and blind zones.
+        // class (and the free bits agree with the classes); over fans of all widths, densities,
+        // orders, ranges and blind zones.
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 240, 200, 0.05).expect("valid");
         let mut s = 0x2545_f491_4f6c_dd1d_u64;
         let mut r = move || {
@@ -544,6 +516,11 @@ mod tests {
                     );
                 }
                 assert_eq!(fast.layers.class, whole.layers.class, "scene {scene}");
+                // The free bits follow the classes.
+                let l = &fast.layers;
+                assert!((0..geom.len()).all(|i| {
+                    (l.free[i / 64] >> (i % 64) & 1 == 1) == (l.class[i] == CellClass::Free as u8)
+                }));
                 let walked_less = (0..geom.len()).any(|i| a.far(i, f) & 1 != 0)
                     && NearField::of(&geom, sensor, &fast.scratch.reach).is_some();
                 filled_any += usize::from(walked_less);
@@ -610,30 +587,5 @@ mod tests {
             grid.cell(CellIndex::new(10, 0)).expect("in grid").last_seen,
             None
         );
-    }
-
-    #[test]
-    fn the_not_free_mask_matches_the_classes() {
-        // Invariant: bit j of not_free(class, base) is set iff cell base + j exists and is not Free.
-        let mut s = 0x1234_5678_u64;
-        let class: Vec<u8> = (0..1000)
-            .map(|_| {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                // Mostly free, as in a seen room; every code, and bytes with the top bit set.
-                match s % 10 {
-                    0..=5 => FREE,
-                    6 => (s >> 8) as u8,
-                    n => (n - 7) as u8 * 2,
-                }
-            })
-            .collect();
-        for base in (0..1000).step_by(64) {
-            let want = (0..64).fold(0u64, |m, j| {
-                m | u64::from(class.get(base + j).is_some_and(|&c| c != FREE)) << j
-            });
-            assert_eq!(not_free(&class, base), want, "word at {base}");
-        }
     }
 }
