@@ -76,8 +76,10 @@ pub(crate) struct NearField {
     parts: Vec<Part>,
 }
 
-/// Beams per part at most: each part has its own outer radius, so a near return only shortens
-/// the parts it can reach; but every part's rows are visited.
+/// Beams per part at most. Each part has its own outer radius, so a near return only shortens the
+/// parts it can reach; but the fill visits every part's rows, and on the 361-beam office scan
+/// parts of 24, 48 or 91 beams cost more in rows than they saved in steps (121–135, 120 and
+/// 113 µs against 112 µs for parts bounded by 90° alone). So parts are as wide as 90° allows.
 const PART_BEAMS: usize = 1024;
 
 impl NearField {
