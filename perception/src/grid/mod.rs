@@ -10,7 +10,10 @@
 //! Per frame, every beam is traversed from the sensor (Amanatides–Woo, `traversal.rs`); crossed cells
 //! are the visible area V_t, end cells hold returns (Tamura 3.1). The last `clear_tail` of a beam
 //! without a return is not counted (a wall entering the range limit must not look like something
-//! appearing in free space). A return is classified by the first rule that fires (Tamura's Fig. 5
+//! appearing in free space). Where a scan's beams lie closer together than a cell subtends, every
+//! cell between them is crossed by one: that annulus (`near_field.rs`) is filled a row at a time and
+//! each walk jumps over it, with the same result as walking it (tested against whole walks). A
+//! return is classified by the first rule that fires (Tamura's Fig. 5
 //! flowchart, extended; "motion nearby" = a return classified moving this frame within `rest_radius`):
 //! 1. **Moving** (Tamura 3.1, `rules/moving.rs`): the cell was seen free in V_{t−1} and V_{t−2}, and
 //!    nothing was returned in its 8-neighbourhood at t−1 or t−2 (Chen 2.4's neighbourhood, here
