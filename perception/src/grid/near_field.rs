@@ -5,16 +5,18 @@
 //! least `1 / r` (cell units): it holds a disk of diameter 1 whose centre is nearer than `r`. So
 //! when no two neighbouring beams of a fan are more than `Δ` apart in bearing, every cell nearer
 //! than `1 / Δ` whose bearings overlap the fan's has some beam's bearing strictly inside its own:
-//! that beam crosses it, and a cell no beam's bearing enters is crossed by none. Nearer than every
-//! beam's reach (its return less the clear margin, or the end of its walk) and farther than every
-//! beam's `seen_from`, each beam that crosses such a cell crosses it *far*. So the cells of the
-//! annulus `r_in ..= r_out` that overlap the fan are exactly the cells the walks would mark far
-//! there, and nothing else, and each beam only needs walking up to `r_in` plus a cell diagonal and
-//! from `r_out` less one: a cell crossed only in between lies wholly inside the annulus.
+//! that beam crosses it, and a cell no beam's bearing enters is crossed by none. Nearer than the
+//! reach (its return less the clear margin, or the end of its walk) of every beam that can cross
+//! such a cell, and farther than every beam's `seen_from`, each beam that crosses it crosses it
+//! *far*. So the cells of the annulus `r_in ..= r_out` that overlap the fan are exactly the cells
+//! the walks would mark far there, and nothing else, and each beam only needs walking up to `r_in`
+//! plus a cell diagonal and from `r_out` less one (the walk jumps in between): a cell crossed only
+//! in between lies wholly inside the annulus.
 //!
 //! A 361-beam scan at 0.5° is that dense out to 5.7 m: about 60 % of a 180° scan's steps in an
-//! office lie there. The fan is cut into parts of under 90° so that "overlaps the fan" is two
-//! half-plane tests per cell, linear along a row.
+//! office lie there. The fan is cut into parts of under 90°, each with its own outer radius, so that
+//! "overlaps the part" is three half-plane tests per cell (in front of the part, past its first
+//! bearing, short of its last), each linear along a row.
 
 use nalgebra::Vector2;
 
