@@ -39,6 +39,8 @@ const SLACK: f64 = 1e-6;
 pub(crate) struct Reach {
     /// Direction from the sensor (any length but zero).
     pub direction: Vector2<f64>,
+    /// The beam's length (m): from the sensor to its end.
+    pub length: f64,
     /// Nearer than this (m) the beam sees nothing ([`Beam::seen_from`]).
     pub seen_from: f64,
     /// Up to this distance (m) every cell the beam crosses is crossed far: its return less the

@@ -57,12 +57,12 @@ impl Walk<'_> {
                 });
             });
         }
-        for (k, beam) in beams.iter().enumerate() {
+        for (k, (beam, r)) in beams.iter().zip(reach.iter()).enumerate() {
             let hit_cell = match beam.kind {
                 BeamEnd::Hit => geom.cell_of(beam.end),
                 BeamEnd::Clear => None,
             };
-            let len = (beam.end - sensor).norm();
+            let len = r.length;
             // The last `clear_tail` of a beam without a return is not counted as seen: at the
             // range limit (or the farthest floor point) a return may just have dropped out, and a
             // wall entering the range next frame must not look like something appearing in free
@@ -87,7 +87,8 @@ impl Walk<'_> {
             if length <= 0.0 {
                 continue; // a return at the sensor: nothing crossed but its own, returned cell
             }
-            let t = |d: f64| d / length;
+            let inv = 1.0 / length;
+            let t = |d: f64| d * inv;
             let cuts = Cuts {
                 seen: t(beam.seen_from),
                 far: t(far),
@@ -112,13 +113,15 @@ impl Walk<'_> {
 
     /// What the near field needs of `beam`.
     fn reach(&self, beam: &Beam) -> Reach {
-        let len = (beam.end - self.sensor).norm();
+        let direction = beam.end - self.sensor;
+        let len = direction.norm();
         let far_to = match beam.kind {
             BeamEnd::Hit => len - self.margin,
             BeamEnd::Clear => len - self.tail,
         };
         Reach {
-            direction: beam.end - self.sensor,
+            direction,
+            length: len,
             seen_from: beam.seen_from,
             far_to,
         }
