@@ -88,6 +88,20 @@ impl Traversal {
         } else {
             return Self::empty();
         };
+        Self::from_start(ax, ay, dx, dy, (sx, sy, t1), w, h)
+    }
+
+    /// The traversal of `a + t·d` in a `w × h` grid from its in-grid start `(sx, sy)` up to
+    /// parameter `t1`, where the segment leaves the grid or ends.
+    fn from_start(
+        ax: f64,
+        ay: f64,
+        dx: f64,
+        dy: f64,
+        (sx, sy, t1): (f64, f64, f64),
+        w: f64,
+        h: f64,
+    ) -> Self {
         let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
         let start = |s: f64, d: f64, n: f64| -> i64 {
             let f = floor(s);
@@ -444,55 +458,8 @@ mod tests {
         let Some((t0, t1)) = clip(ax, ay, dx, dy, w, h) else {
             return Traversal::empty();
         };
-        let (sx, sy) = (ax + t0 * dx, ay + t0 * dy);
-        let (ex, ey) = (ax + t1 * dx, ay + t1 * dy);
-        let start = |s: f64, d: f64, n: f64| -> i64 {
-            let f = floor(s);
-            let c = if d < 0.0 && f == s { f - 1.0 } else { f };
-            c.clamp(0.0, n - 1.0) as i64
-        };
-        let x = start(sx, dx, w);
-        let y = start(sy, dy, h);
-        let end_x = floor(ex).clamp(0.0, w - 1.0) as i64;
-        let end_y = floor(ey).clamp(0.0, h - 1.0) as i64;
-        // Per axis: the parameter of the first boundary ahead, (next boundary − a) / d, and between
-        // boundaries, 1 / |d| (= −1 / d for d < 0, to the bit); none along an axis not moved on.
-        // Both axes' divisions side by side, so that they can go as one two-lane division.
-        let next = |c: i64, d: f64, a: f64| {
-            if d > 0.0 {
-                (c + 1) as f64 - a
-            } else {
-                c as f64 - a
-            }
-        };
-        let t_max = [next(x, dx, ax) / dx, next(y, dy, ay) / dy];
-        let t_delta = [1.0 / dx.abs(), 1.0 / dy.abs()];
-        let axis = |d: f64, t_max: f64, t_delta: f64| -> (i64, f64, f64) {
-            if d > 0.0 {
-                (1, t_max, t_delta)
-            } else if d < 0.0 {
-                (-1, t_max, t_delta)
-            } else {
-                (0, f64::INFINITY, f64::INFINITY)
-            }
-        };
-        let (step_x, t_max_x, t_delta_x) = axis(dx, t_max[0], t_delta[0]);
-        let (step_y, t_max_y, t_delta_y) = axis(dy, t_max[1], t_delta[1]);
-        let remaining = (end_x - x).unsigned_abs() + (end_y - y).unsigned_abs() + 1;
-        Traversal {
-            x,
-            y,
-            step_x,
-            step_y,
-            t_max_x,
-            t_max_y,
-            t_delta_x,
-            t_delta_y,
-            end_x,
-            end_y,
-            t_end: t1,
-            remaining,
-        }
+        let start = (ax + t0 * dx, ay + t0 * dy, t1);
+        Traversal::from_start(ax, ay, dx, dy, start, w, h)
     }
 
     /// Every field of a traversal, floats by their bits.
