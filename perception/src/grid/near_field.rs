@@ -200,9 +200,175 @@ impl NearField {
     /// cell at least once; parts of the fan overlap at their shared edges).
     pub(crate) fn fill(&self, geom: &GridGeometry, mut run: impl FnMut(usize, usize, usize)) {
         let (sx, sy) = self.sensor;
-        let (w, h) = (geom.width() as f64, geom.height() as f64);
+        let (w, h) = (geom.width() as i64, geom.height() as f64);
         let r_in = self.r_in;
         for part in &self.parts {
+            let (f, l, r_out) = (part.first, part.last, part.r_out);
+            if !part.filled(r_in) {
+                continue;
+            }
+            let m = f + l; // the part's middle bearing (not normalised: only its sign is used)
+            let planes = [
+                // All corners in front of the part (its middle bearing): min over corners m · c > 0.
+                HalfPlane::new(m.x, m.x < 0.0, m.y, m.y < 0.0),
+                // Some corner strictly counter-clockwise of its first bearing: max f × c > 0.
+                HalfPlane::new(-f.y, f.y <= 0.0, f.x, f.x >= 0.0),
+                // Some corner strictly clockwise of its last bearing: max −(l × c) > 0.
+                HalfPlane::new(l.y, l.y >= 0.0, -l.x, l.x <= 0.0),
+            ];
+            // The rows the part's wedge reaches (a cell more each way: cells overlap it).
+            let within = |d: Vector2<f64>| f.perp(&d) >= 0.0 && d.perp(&l) >= 0.0;
+            let up = if within(Vector2::y()) {
+                1.0
+            } else {
+                f.y.max(l.y).max(0.0)
+            };
+            let down = if within(-Vector2::y()) {
+                -1.0
+            } else {
+                f.y.min(l.y).min(0.0)
+            };
+            let y0 = (floor_of(sy + r_out * down) - 1.0).max(0.0);
+            let y1 = (floor_of(sy + r_out * up) + 1.0).min(h - 1.0);
+            let mut y = y0;
+            while y <= y1 {
+                let (ya, yb) = (y - sy, y + 1.0 - sy);
+                let y_far = ya.abs().max(yb.abs());
+                if y_far < r_out {
+                    // All four corners within r_out.
+                    let half = (r_out * r_out - y_far * y_far).sqrt();
+                    let mut lo = ceil_int(sx - half);
+                    let mut hi = floor_int(sx + half) - 1;
+                    for plane in &planes {
+                        (lo, hi) = plane.clip(lo, hi, ya, yb, sx);
+                    }
+                    lo = lo.max(0);
+                    hi = hi.min(w - 1);
+                    // Nearest point at least r_in away: a hole around the sensor's column.
+                    let y_near = if ya <= 0.0 && yb >= 0.0 {
+                        0.0
+                    } else {
+                        ya.abs().min(yb.abs())
+                    };
+                    let row = y as usize;
+                    if y_near >= r_in {
+                        emit(row, lo, hi, &mut run);
+                    } else {
+                        let v = (r_in * r_in - y_near * y_near).sqrt();
+                        emit(row, lo, hi.min(floor_int(sx - v) - 1), &mut run);
+                        emit(row, lo.max(ceil_int(sx + v)), hi, &mut run);
+                    }
+                }
+                y += 1.0;
+            }
+        }
+    }
+}
+
+/// One of a part's conditions on the cells of a row: `a·X + c·Y > 0` for the cell's corner column
+/// X (its right edge when `right`, else its left) and corner row Y (its upper edge when `upper`),
+/// both relative to the sensor: linear along the row, so it bounds the row's cells on one side.
+#[derive(Clone, Copy, Debug)]
+struct HalfPlane {
+    a: f64,
+    /// `1 / a` (0 when `a` is).
+    inv_a: f64,
+    right: f64,
+    c: f64,
+    upper: bool,
+}
+
+impl HalfPlane {
+    fn new(a: f64, right: bool, c: f64, upper: bool) -> Self {
+        Self {
+            a,
+            inv_a: if a != 0.0 { 1.0 / a } else { 0.0 },
+            right: if right { 1.0 } else { 0.0 },
+            c,
+            upper,
+        }
+    }
+
+    /// Narrows cells `lo..=hi` of the row whose cells' lower and upper edges are `ya` and `yb`
+    /// (relative to the sensor) to those meeting the condition.
+    #[inline]
+    fn clip(&self, lo: i64, hi: i64, ya: f64, yb: f64, sx: f64) -> (i64, i64) {
+        let b = self.c * if self.upper { yb } else { ya };
+        // a·(x + right − sx) + b > 0  ⇔  x > or < sx − right − b / a.
+        let at = sx - self.right - b * self.inv_a;
+        if at.is_nan() {
+            // Only from an infinite sensor coordinate or 1 / a: no bound (as a float bound's
+            // max and min would ignore it).
+            (lo, hi)
+        } else if self.a > 0.0 {
+            (lo.max(floor_int(at) + 1), hi)
+        } else if self.a < 0.0 {
+            (lo, hi.min(ceil_int(at) - 1))
+        } else if b > 0.0 {
+            (lo, hi)
+        } else {
+            (1, 0)
+        }
+    }
+}
+
+/// `x.floor()` for the fill's bounds, without a library call, a branch (the grid's own `floor`
+/// branches on the sign and fraction, which a row's bounds make unpredictable) or a conversion.
+/// Exact for |x| < 10¹⁵; a bound beyond that lies outside any grid and is clamped to it anyway.
+fn floor_of(x: f64) -> f64 {
+    // Adding and taking away 1.5·2⁵² rounds to the nearest integer (exactly, for |x| < 2⁵¹);
+    // one less if that rounded up.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let x = x.clamp(-1e15, 1e15);
+    let r = (x + ROUND) - ROUND;
+    r - f64::from(u8::from(r > x))
+}
+
+/// `x.ceil()`, likewise.
+fn ceil(x: f64) -> f64 {
+    -floor_of(-x)
+}
+
+/// [`floor_of`] as an integer, for a row's bounds: `x` clamped to ±10¹⁵ and floored, with
+/// integer compares and selects where the float's `r > x` became an unpredictable branch per row.
+/// Exact for every `x` but NaN (which gives 0).
+#[inline]
+fn floor_int(x: f64) -> i64 {
+    let x = x.clamp(-1e15, 1e15);
+    // The truncation is exact below 2⁵³; one less when it rounded a negative fraction up.
+    let t = x as i64;
+    t - i64::from(t as f64 > x)
+}
+
+/// [`ceil`] as an integer, likewise.
+#[inline]
+fn ceil_int(x: f64) -> i64 {
+    -floor_int(-x)
+}
+
+/// Calls `run` for cells `lo..=hi` of `row` if there are any.
+#[inline]
+fn emit(row: usize, lo: i64, hi: i64, run: &mut impl FnMut(usize, usize, usize)) {
+    if lo <= hi && hi >= 0 {
+        run(row, lo.max(0) as usize, hi as usize);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point2;
+
+    /// The fill as it was with float row bounds (before `floor_int`): the oracle.
+    fn fill_before(
+        near: &NearField,
+        geom: &GridGeometry,
+        mut run: impl FnMut(usize, usize, usize),
+    ) {
+        let (sx, sy) = near.sensor;
+        let (w, h) = (geom.width() as f64, geom.height() as f64);
+        let r_in = near.r_in;
+        for part in &near.parts {
             let (f, l, r_out) = (part.first, part.last, part.r_out);
             if !part.filled(r_in) {
                 continue;
@@ -240,7 +406,7 @@ impl NearField {
                     let mut lo = ceil(sx - half);
                     let mut hi = floor_of(sx + half) - 1.0;
                     for plane in &planes {
-                        (lo, hi) = plane.clip(lo, hi, ya, yb, sx);
+                        (lo, hi) = clip_before(plane, lo, hi, ya, yb, sx);
                     }
                     lo = lo.max(0.0);
                     hi = hi.min(w - 1.0);
@@ -252,53 +418,25 @@ impl NearField {
                     };
                     let row = y as usize;
                     if y_near >= r_in {
-                        emit(row, lo, hi, &mut run);
+                        emit_before(row, lo, hi, &mut run);
                     } else {
                         let v = (r_in * r_in - y_near * y_near).sqrt();
-                        emit(row, lo, hi.min(floor_of(sx - v) - 1.0), &mut run);
-                        emit(row, lo.max(ceil(sx + v)), hi, &mut run);
+                        emit_before(row, lo, hi.min(floor_of(sx - v) - 1.0), &mut run);
+                        emit_before(row, lo.max(ceil(sx + v)), hi, &mut run);
                     }
                 }
                 y += 1.0;
             }
         }
     }
-}
 
-/// One of a part's conditions on the cells of a row: `a·X + c·Y > 0` for the cell's corner column
-/// X (its right edge when `right`, else its left) and corner row Y (its upper edge when `upper`),
-/// both relative to the sensor: linear along the row, so it bounds the row's cells on one side.
-#[derive(Clone, Copy, Debug)]
-struct HalfPlane {
-    a: f64,
-    /// `1 / a` (0 when `a` is).
-    inv_a: f64,
-    right: f64,
-    c: f64,
-    upper: bool,
-}
-
-impl HalfPlane {
-    fn new(a: f64, right: bool, c: f64, upper: bool) -> Self {
-        Self {
-            a,
-            inv_a: if a != 0.0 { 1.0 / a } else { 0.0 },
-            right: if right { 1.0 } else { 0.0 },
-            c,
-            upper,
-        }
-    }
-
-    /// Narrows cells `lo..=hi` of the row whose cells' lower and upper edges are `ya` and `yb`
-    /// (relative to the sensor) to those meeting the condition.
-    #[inline]
-    fn clip(&self, lo: f64, hi: f64, ya: f64, yb: f64, sx: f64) -> (f64, f64) {
-        let b = self.c * if self.upper { yb } else { ya };
+    fn clip_before(plane: &HalfPlane, lo: f64, hi: f64, ya: f64, yb: f64, sx: f64) -> (f64, f64) {
+        let b = plane.c * if plane.upper { yb } else { ya };
         // a·(x + right − sx) + b > 0  ⇔  x > or < sx − right − b / a.
-        let at = sx - self.right - b * self.inv_a;
-        if self.a > 0.0 {
+        let at = sx - plane.right - b * plane.inv_a;
+        if plane.a > 0.0 {
             (lo.max(floor_of(at) + 1.0), hi)
-        } else if self.a < 0.0 {
+        } else if plane.a < 0.0 {
             (lo, hi.min(ceil(at) - 1.0))
         } else if b > 0.0 {
             (lo, hi)
@@ -306,28 +444,70 @@ impl HalfPlane {
             (1.0, 0.0)
         }
     }
-}
 
-/// `x.floor()` for the fill's bounds, without a library call, a branch (the grid's own `floor`
-/// branches on the sign and fraction, which a row's bounds make unpredictable) or a conversion.
-/// Exact for |x| < 10¹⁵; a bound beyond that lies outside any grid and is clamped to it anyway.
-fn floor_of(x: f64) -> f64 {
-    // Adding and taking away 1.5·2⁵² rounds to the nearest integer (exactly, for |x| < 2⁵¹);
-    // one less if that rounded up.
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let x = x.clamp(-1e15, 1e15);
-    let r = (x + ROUND) - ROUND;
-    r - f64::from(u8::from(r > x))
-}
+    fn emit_before(row: usize, lo: f64, hi: f64, run: &mut impl FnMut(usize, usize, usize)) {
+        if lo <= hi && hi >= 0.0 {
+            run(row, lo.max(0.0) as usize, hi as usize);
+        }
+    }
 
-/// `x.ceil()`, likewise.
-fn ceil(x: f64) -> f64 {
-    -floor_of(-x)
-}
-
-/// Calls `run` for cells `lo..=hi` of `row` if there are any.
-fn emit(row: usize, lo: f64, hi: f64, run: &mut impl FnMut(usize, usize, usize)) {
-    if lo <= hi && hi >= 0.0 {
-        run(row, lo.max(0.0) as usize, hi as usize);
+    #[test]
+    fn integer_row_bounds_give_the_runs_the_float_bounds_gave() {
+        // Invariant: fill emits exactly the runs, in the same order, that the float-bounded fill
+        // it replaced did, for parts of any bearing (axis-aligned ones too), width and radii, and
+        // sensors inside, beside and far outside the grid (infinitely far included).
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 230, 170, 0.05).expect("valid");
+        let mut s = 0x2545_f491_4f6c_dd1d_u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut runs = 0;
+        for case in 0..3000 {
+            let sensor = match case % 10 {
+                0 => (-40.0 + r() * 310.0, -40.0 + r() * 250.0),
+                1 => (1e300 * (r() - 0.5), 85.0),
+                2 => (f64::INFINITY, 50.0 + r() * 60.0),
+                3 => (115.0, f64::NEG_INFINITY),
+                4 => ((r() * 230.0).floor(), (r() * 170.0).floor()),
+                _ => (r() * 230.0, r() * 170.0),
+            };
+            let r_in = 2.0 + r() * 8.0;
+            let mut parts = Vec::new();
+            for _ in 0..1 + (r() * 4.0) as usize {
+                let (theta, width) = if r() < 0.3 {
+                    // Exactly along an axis, and exactly 0° to 90° wide.
+                    let k = (r() * 4.0).floor() * std::f64::consts::FRAC_PI_2;
+                    (k, (r() * 3.0).floor() * 0.5 * std::f64::consts::FRAC_PI_4)
+                } else {
+                    (r() * std::f64::consts::TAU, r() * 1.55)
+                };
+                let unit = |a: f64| {
+                    // Exact axes where the angle is a multiple of 90°.
+                    let (c, s) = (a.cos(), a.sin());
+                    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+                    Vector2::new(snap(c), snap(s))
+                };
+                parts.push(Part {
+                    beams: (0, 1),
+                    first: unit(theta),
+                    last: unit(theta + width),
+                    r_out: r_in + r() * 160.0,
+                });
+            }
+            let near = NearField {
+                sensor,
+                r_in,
+                parts,
+            };
+            let (mut got, mut want) = (Vec::new(), Vec::new());
+            near.fill(&geom, |y, x0, x1| got.push((y, x0, x1)));
+            fill_before(&near, &geom, |y, x0, x1| want.push((y, x0, x1)));
+            assert_eq!(got, want, "case {case}: {near:?}");
+            runs += got.len();
+        }
+        assert!(runs > 100_000, "only {runs} runs compared");
     }
 }
