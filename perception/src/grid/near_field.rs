@@ -59,6 +59,9 @@ struct Part {
     last: Vector2<f64>,
     /// Outer radius (cells); the part is not filled unless it exceeds the inner one enough.
     r_out: f64,
+    /// Nearer than this (cells) other parts fill the part's cells already: only the rows its
+    /// wedge reaches from there out are filled.
+    r_from: f64,
 }
 
 impl Part {
@@ -76,15 +79,18 @@ pub(crate) struct NearField {
     sensor: (f64, f64),
     /// Inner radius (cells), the same for every part.
     r_in: f64,
-    /// The fan's parts, in beam order, each sharing its edge beams with its neighbours.
+    /// The parts filled: the fan's coarse parts, in beam order, each sharing its edge beams with
+    /// its neighbours, then the fine parts that reach farther than the coarse ones they lie in.
     parts: Vec<Part>,
+    /// How far out (cells) the fill reaches along each beam.
+    filled_to: Vec<f64>,
 }
 
-/// Beams per part at most. Each part has its own outer radius, so a near return only shortens the
-/// parts it can reach; but the fill visits every part's rows, and on the 361-beam office scan
-/// parts of 24, 48 or 91 beams cost more in rows than they saved in steps (121–135, 120 and
-/// 113 µs against 112 µs for parts bounded by 90° alone). So parts are as wide as 90° allows.
-const PART_BEAMS: usize = 1024;
+/// A part is cut where the beams' bound from near returns changes by more than this (cells)…
+const STEP: f64 = 8.0;
+
+/// …once it holds this many beams.
+const MIN_PART_BEAMS: usize = 4;
 
 impl NearField {
     /// The near field of beams `reach` (in bearing order, either way round) from `sensor`, or `None`
@@ -122,41 +128,14 @@ impl NearField {
         let narrowest = gaps.iter().copied().fold(1.0, f64::min).sqrt().asin();
         let seen = reach.iter().map(|r| r.seen_from).fold(0.0, f64::max) / res;
         let r_in = (seen + SLACK).max(MIN_INNER);
-        // The parts, each bounded by its own density.
-        let unit = |k: usize| reach[k].direction.normalize();
-        let mut parts = Vec::new();
-        let mut start = 0;
-        while start + 1 < n {
-            let first = reach[start].direction;
-            let mut end = start + 1;
-            // Under 90°, with a margin (the directions' lengths scale the dot product).
-            while end + 1 < n && end - start + 1 < PART_BEAMS && {
-                let d = reach[end + 1].direction;
-                first.dot(&d) > SLACK * (first.norm_squared() + d.norm_squared())
-            } {
-                end += 1;
-            }
-            let widest = gaps[start..end]
-                .iter()
-                .copied()
-                .fold(0.0, f64::max)
-                .sqrt()
-                .asin();
-            let (a, b) = (unit(start), unit(end));
-            let (first, last) = if ccw { (a, b) } else { (b, a) };
-            parts.push(Part {
-                beams: (start, end),
-                first,
-                last,
-                r_out: (1.0 - SLACK) / widest,
-            });
-            start = end;
-        }
-        // Each beam bounds the parts it can reach (only a beam short of some part's radius can).
-        let widest_reach = parts.iter().map(|p| p.r_out).fold(0.0, f64::max);
+        // How far out each beam's cells may be filled as far as the returns go: a beam whose reach
+        // is `R` can only cross cells within `spread` of its bearing beyond `R`, so it bounds the
+        // beams within `within` of it (only a beam short of the density bound can matter).
+        let dense = (1.0 - SLACK) / narrowest;
+        let mut bound = vec![f64::INFINITY; n];
         for (k, r) in reach.iter().enumerate() {
             let far = r.far_to / res;
-            if far >= widest_reach {
+            if far >= dense {
                 continue;
             }
             let spread = if far - std::f64::consts::SQRT_2 > std::f64::consts::FRAC_1_SQRT_2 {
@@ -165,21 +144,84 @@ impl NearField {
                 std::f64::consts::PI
             };
             let within = ceil((spread / narrowest).min(n as f64)) as usize + 1;
-            let (lo, hi) = (k.saturating_sub(within), k + within);
-            for p in parts
-                .iter_mut()
-                .filter(|p| p.beams.0 <= hi && p.beams.1 >= lo)
-            {
-                p.r_out = p.r_out.min(far);
+            let (lo, hi) = (k.saturating_sub(within), (k + within).min(n - 1));
+            for b in &mut bound[lo..=hi] {
+                *b = b.min(far);
             }
         }
-        if !parts.iter().any(|p| p.filled(r_in)) {
+        let level = |k: usize| bound[k].min(dense);
+        // Coarse parts, as wide as 90° allows (the fill visits every part's rows), and fine ones,
+        // also cut where the bound changes by more than `STEP`, so that a near return only
+        // shortens the beams around it.
+        let split = |fine: bool| {
+            let unit = |k: usize| reach[k].direction.normalize();
+            let mut parts = Vec::new();
+            let mut start = 0;
+            while start + 1 < n {
+                let first = reach[start].direction;
+                let mut end = start + 1;
+                let (mut low, mut high) =
+                    (level(start).min(level(end)), level(start).max(level(end)));
+                while end + 1 < n && {
+                    let d = reach[end + 1].direction;
+                    let next = level(end + 1);
+                    first.dot(&d) > SLACK * (first.norm_squared() + d.norm_squared())
+                        && (!fine
+                            || end - start < MIN_PART_BEAMS
+                            || high.max(next) - low.min(next) <= STEP)
+                } {
+                    end += 1;
+                    low = low.min(level(end));
+                    high = high.max(level(end));
+                }
+                let widest = gaps[start..end]
+                    .iter()
+                    .copied()
+                    .fold(0.0, f64::max)
+                    .sqrt()
+                    .asin();
+                let (a, b) = (unit(start), unit(end));
+                let (first, last) = if ccw { (a, b) } else { (b, a) };
+                parts.push(Part {
+                    beams: (start, end),
+                    first,
+                    last,
+                    r_out: ((1.0 - SLACK) / widest).min(low),
+                    r_from: 0.0,
+                });
+                start = end;
+            }
+            parts
+        };
+        let mut parts = split(false);
+        let coarse = parts.len();
+        let mut filled_to = vec![f64::INFINITY; n];
+        for mut part in split(true) {
+            let (b0, b1) = part.beams;
+            // Filled by the coarse parts it overlaps (unless one of them is not filled at all).
+            part.r_from = parts[..coarse]
+                .iter()
+                .filter(|p| p.beams.0 <= b1 && p.beams.1 >= b0)
+                .map(|p| if p.filled(r_in) { p.r_out } else { 0.0 })
+                .fold(f64::INFINITY, f64::min);
+            let reaches = if part.r_out > part.r_from + STEP && part.filled(r_in.max(part.r_from)) {
+                parts.push(part);
+                part.r_out
+            } else {
+                part.r_from
+            };
+            for f in &mut filled_to[b0..=b1] {
+                *f = f.min(reaches);
+            }
+        }
+        if !parts[..coarse].iter().any(|p| p.filled(r_in)) {
             return None;
         }
         Some(Self {
             sensor: geom.grid_coords(sensor),
             r_in,
             parts,
+            filled_to,
         })
     }
 
@@ -187,12 +229,7 @@ impl NearField {
     /// inner radius plus a cell diagonal to the outer radius of its parts less one.
     pub(crate) fn skipped(&self, k: usize, resolution: f64) -> Option<(f64, f64)> {
         let d = std::f64::consts::SQRT_2 + SLACK;
-        let at = self.parts.partition_point(|p| p.beams.1 < k);
-        let mut r_out = f64::INFINITY;
-        for p in self.parts.get(at..)?.iter().take_while(|p| p.beams.0 <= k) {
-            r_out = r_out.min(p.r_out);
-        }
-        let (near, far) = (self.r_in + d, r_out - d);
+        let (near, far) = (self.r_in + d, self.filled_to.get(k)? - d);
         (far - near > MIN_DEPTH).then_some((near * resolution, far * resolution))
     }
 
@@ -204,7 +241,7 @@ impl NearField {
         let r_in = self.r_in;
         for part in &self.parts {
             let (f, l, r_out) = (part.first, part.last, part.r_out);
-            if !part.filled(r_in) {
+            if !part.filled(r_in.max(part.r_from)) {
                 continue;
             }
             let m = f + l; // the part's middle bearing (not normalised: only its sign is used)
@@ -216,20 +253,24 @@ impl NearField {
                 // Some corner strictly clockwise of its last bearing: max −(l × c) > 0.
                 HalfPlane::new(l.y, l.y >= 0.0, -l.x, l.x <= 0.0),
             ];
-            // The rows the part's wedge reaches (a cell more each way: cells overlap it).
+            // The rows the part's wedge reaches from `r_from` out (a cell more each way: cells
+            // overlap it; and two cells nearer: a cell whose far corner lies beyond `r_from` may
+            // overlap the wedge only nearer).
             let within = |d: Vector2<f64>| f.perp(&d) >= 0.0 && d.perp(&l) >= 0.0;
+            let near = (part.r_from - 2.0).max(0.0);
+            let ends = [near * f.y, near * l.y, r_out * f.y, r_out * l.y];
             let up = if within(Vector2::y()) {
-                1.0
+                r_out
             } else {
-                f.y.max(l.y).max(0.0)
+                ends.iter().copied().fold(f64::NEG_INFINITY, f64::max)
             };
             let down = if within(-Vector2::y()) {
-                -1.0
+                -r_out
             } else {
-                f.y.min(l.y).min(0.0)
+                ends.iter().copied().fold(f64::INFINITY, f64::min)
             };
-            let y0 = (floor_of(sy + r_out * down) - 1.0).max(0.0);
-            let y1 = (floor_of(sy + r_out * up) + 1.0).min(h - 1.0);
+            let y0 = (floor_of(sy + down) - 1.0).max(0.0);
+            let y1 = (floor_of(sy + up) + 1.0).min(h - 1.0);
             let mut y = y0;
             while y <= y1 {
                 let (ya, yb) = (y - sy, y + 1.0 - sy);
@@ -495,12 +536,14 @@ mod tests {
                     first: unit(theta),
                     last: unit(theta + width),
                     r_out: r_in + r() * 160.0,
+                    r_from: 0.0,
                 });
             }
             let near = NearField {
                 sensor,
                 r_in,
                 parts,
+                filled_to: Vec::new(),
             };
             let (mut got, mut want) = (Vec::new(), Vec::new());
             near.fill(&geom, |y, x0, x1| got.push((y, x0, x1)));
