@@ -146,10 +146,17 @@ impl NearField {
             let within = ceil((spread / narrowest).min(n as f64)) as usize + 1;
             let (lo, hi) = (k.saturating_sub(within), (k + within).min(n - 1));
             for b in &mut bound[lo..=hi] {
-                *b = b.min(far);
+                if far < *b {
+                    *b = far;
+                }
             }
         }
-        let level = |k: usize| bound[k].min(dense);
+        // Plain compares: nothing here is NaN (a NaN reach fails `far >= dense` and is skipped).
+        let levels: Vec<f64> = bound
+            .iter()
+            .map(|&b| if b < dense { b } else { dense })
+            .collect();
+        let level = |k: usize| levels[k];
         // Coarse parts, as wide as 90° allows (the fill visits every part's rows), and fine ones,
         // also cut where the bound changes by more than `STEP`, so that a near return only
         // shortens the beams around it.
@@ -160,19 +167,19 @@ impl NearField {
             while start + 1 < n {
                 let first = reach[start].direction;
                 let mut end = start + 1;
-                let (mut low, mut high) =
-                    (level(start).min(level(end)), level(start).max(level(end)));
+                let (mut low, mut high) = min_max(level(start), level(end));
                 while end + 1 < n && {
                     let d = reach[end + 1].direction;
                     let next = level(end + 1);
                     first.dot(&d) > SLACK * (first.norm_squared() + d.norm_squared())
-                        && (!fine
-                            || end - start < MIN_PART_BEAMS
-                            || high.max(next) - low.min(next) <= STEP)
+                        && (!fine || end - start < MIN_PART_BEAMS || {
+                            let (lo, hi) = min_max(low, next);
+                            let (_, hi) = min_max(hi, high);
+                            hi - lo <= STEP
+                        })
                 } {
                     end += 1;
-                    low = low.min(level(end));
-                    high = high.max(level(end));
+                    (low, high) = (min_max(low, level(end)).0, min_max(high, level(end)).1);
                 }
                 let widest = gaps[start..end]
                     .iter()
@@ -385,6 +392,12 @@ fn floor_int(x: f64) -> i64 {
 #[inline]
 fn ceil_int(x: f64) -> i64 {
     -floor_int(-x)
+}
+
+/// The lesser and the greater of two numbers that are not NaN.
+#[inline]
+fn min_max(a: f64, b: f64) -> (f64, f64) {
+    if a < b { (a, b) } else { (b, a) }
 }
 
 /// Calls `run` for cells `lo..=hi` of `row` if there are any.

@@ -54,6 +54,12 @@ impl Traversal {
         Self::in_grid_units(ax, ay, bx, by, geom.width() as f64, geom.height() as f64)
     }
 
+    /// [`Self::new`] from both ends' continuous grid coordinates
+    /// ([`GridGeometry::grid_coords`]), for callers that have them already.
+    pub(crate) fn between(geom: &GridGeometry, (ax, ay): (f64, f64), (bx, by): (f64, f64)) -> Self {
+        Self::in_grid_units(ax, ay, bx, by, geom.width() as f64, geom.height() as f64)
+    }
+
     fn empty() -> Self {
         Self {
             x: 0,

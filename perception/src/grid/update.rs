@@ -3,7 +3,7 @@
 use super::class::CellClass;
 use super::evidence::{Rule, is_active, pack_rule};
 use super::frame::{Beam, BeamEnd, RangeFrame};
-use super::geometry::GridGeometry;
+use super::geometry::{GridGeometry, floor};
 #[cfg(doc)]
 use super::layers::Crossing;
 use super::layers::NO_OBJECT;
@@ -57,9 +57,12 @@ impl Walk<'_> {
                 });
             });
         }
+        // The sensor's grid coordinates once, and each end's once (for its cell and its walk).
+        let from = geom.grid_coords(sensor);
         for (k, (beam, r)) in beams.iter().zip(reach.iter()).enumerate() {
+            let hit_end = geom.grid_coords(beam.end);
             let hit_cell = match beam.kind {
-                BeamEnd::Hit => geom.cell_of(beam.end),
+                BeamEnd::Hit => geom.cell_checked(floor(hit_end.0), floor(hit_end.1)),
                 BeamEnd::Clear => None,
             };
             let len = r.length;
@@ -98,7 +101,10 @@ impl Walk<'_> {
                 .as_ref()
                 .and_then(|n| n.skipped(k, geom.resolution()))
                 .map(|(near, far)| (t(near), t(far)));
-            let walk = Traversal::new(geom, sensor, end);
+            let walk = match beam.kind {
+                BeamEnd::Hit => Traversal::between(geom, from, hit_end),
+                BeamEnd::Clear => Traversal::between(geom, from, geom.grid_coords(end)),
+            };
             let cells = walk.for_each_cell(geom, hit_cell, &cuts, skippable, |i, bit| {
                 if let Some(v) = level.get_mut(i) {
                     *v |= bit;
