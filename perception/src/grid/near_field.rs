@@ -331,14 +331,15 @@ fn ceil(x: f64) -> f64 {
 
 /// [`floor_of`] as an integer, for a row's bounds: `x` clamped to ±10¹⁵ and floored, with
 /// integer compares and selects where the float's `r > x` became an unpredictable branch per row.
-/// Exact for every `x` but NaN (which gives −10¹⁵). No float-to-integer conversion, whose
-/// saturation and NaN checks cost more than the floor: the rounded value's bits are the integer.
+/// Exact for every `x` but NaN (meaningless then: the callers rule it out). No float-to-integer
+/// conversion, whose saturation and NaN checks cost more than the floor: the rounded value's bits
+/// are the integer.
 #[inline]
 fn floor_int(x: f64) -> i64 {
     // Adding 1.5·2⁵² rounds to the nearest integer and lands in [2⁵², 2⁵³), where consecutive
-    // integers have consecutive bit patterns. `max` and `min` drop a NaN.
+    // integers have consecutive bit patterns.
     const ROUND: f64 = 6_755_399_441_055_744.0;
-    let x = x.max(-1e15).min(1e15);
+    let x = x.clamp(-1e15, 1e15);
     let m = x + ROUND;
     let nearest = m.to_bits() as i64 - ROUND.to_bits() as i64;
     nearest - i64::from(m - ROUND > x)
