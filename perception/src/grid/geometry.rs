@@ -237,7 +237,14 @@ impl GridGeometry {
 /// only used where it is exact).
 #[inline]
 pub(crate) fn floor(x: f64) -> f64 {
-    if x.abs() < 4_503_599_627_370_496.0 {
+    // 1.5·2⁵²: adding and taking it away rounds |x| < 2⁵¹ to the nearest integer, exactly.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    if x.abs() < 2_251_799_813_685_248.0 {
+        // One less if that rounded up; the floor has x's sign (−0 stays −0, (−1, 0) gives −1).
+        // Neither a conversion (with its saturation checks) nor a branch on the fraction.
+        let r = (x + ROUND) - ROUND;
+        (r - f64::from(u8::from(r > x))).copysign(x)
+    } else if x.abs() < 4_503_599_627_370_496.0 {
         // |x| < 2⁵²: the truncation is exact, and one below it when x is negative and fractional;
         // an integer (also −0) is its own floor.
         let t = x as i64 as f64;
@@ -331,5 +338,58 @@ mod tests {
             assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
         }
         assert!(floor(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn the_rounding_floor_matches_the_truncating_one() {
+        // Invariant: floor (round to nearest through 1.5·2⁵², less one when that rounded up, with
+        // x's sign) is bit for bit the truncating floor it replaced, over random bit patterns and
+        // magnitudes of both signs, halves, integers, their neighbouring floats, and ±2⁵¹, ±2⁵².
+        fn before(x: f64) -> f64 {
+            if x.abs() < 4_503_599_627_370_496.0 {
+                let t = x as i64 as f64;
+                if t > x {
+                    t - 1.0
+                } else if t < x {
+                    t
+                } else {
+                    x
+                }
+            } else {
+                x
+            }
+        }
+        let mut s = 0x6a09_e667_f3bc_c909_u64;
+        let mut xs = Vec::new();
+        for e in [2_251_799_813_685_248.0, 4_503_599_627_370_496.0, 0.5, 0.0] {
+            xs.extend([e, -e, e + 0.5, -e - 0.5, e - 0.5, 0.5 - e]);
+        }
+        for _ in 0..20_000 {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let scaled = (s >> 11) as f64 / (1u64 << 53) as f64 * 2e3 - 1e3;
+            for v in [
+                f64::from_bits(s),
+                scaled,
+                scaled.round(),
+                scaled.round() + 0.5,
+                scaled * 1e-300,
+                scaled * 2.3e12,
+            ] {
+                xs.extend([
+                    v,
+                    f64::from_bits(v.to_bits() ^ 1),
+                    f64::from_bits(v.to_bits() ^ 2),
+                ]);
+            }
+        }
+        for x in xs {
+            let (a, b) = (floor(x), before(x));
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "{x:e}"
+            );
+        }
     }
 }

@@ -114,16 +114,21 @@ impl NearField {
         // Bearing order: every turn from one beam to the next the same way, each under 90°; the
         // gaps' sines.
         let ccw = reach[0].direction.perp(&reach[1].direction) > 0.0;
-        // Squared sines: no square root per beam.
-        let mut gaps = Vec::with_capacity(n - 1);
-        for w in reach.windows(2) {
-            let (a, b) = (w[0].direction, w[1].direction);
-            let (cross, dot) = (a.perp(&b), a.dot(&b));
-            let norms = a.norm_squared() * b.norm_squared();
-            if !(norms > 0.0 && dot > 0.0 && (cross > 0.0) == ccw && cross != 0.0) {
-                return None;
-            }
-            gaps.push((cross * cross / norms).min(1.0));
+        // Squared sines: no square root per beam. All gaps, then whether every one was valid: a
+        // loop without an exit per beam (an invalid fan is rare, and computing on costs nothing).
+        let mut valid = true;
+        let gaps: Vec<f64> = reach
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0].direction, w[1].direction);
+                let (cross, dot) = (a.perp(&b), a.dot(&b));
+                let norms = a.norm_squared() * b.norm_squared();
+                valid &= norms > 0.0 && dot > 0.0 && (cross > 0.0) == ccw && cross != 0.0;
+                (cross * cross / norms).min(1.0)
+            })
+            .collect();
+        if !valid {
+            return None;
         }
         let narrowest = gaps.iter().copied().fold(1.0, f64::min).sqrt().asin();
         let seen = reach.iter().map(|r| r.seen_from).fold(0.0, f64::max) / res;
@@ -143,7 +148,8 @@ impl NearField {
             } else {
                 std::f64::consts::PI
             };
-            let within = ceil((spread / narrowest).min(n as f64)) as usize + 1;
+            // Never NaN: spread is positive and finite, and the min drops an infinite quotient.
+            let within = ceil_int((spread / narrowest).min(n as f64)) as usize + 1;
             let (lo, hi) = (k.saturating_sub(within), (k + within).min(n - 1));
             for b in &mut bound[lo..=hi] {
                 if far < *b {
@@ -373,22 +379,28 @@ fn floor_of(x: f64) -> f64 {
 }
 
 /// `x.ceil()`, likewise.
+#[cfg(test)]
 fn ceil(x: f64) -> f64 {
     -floor_of(-x)
 }
 
 /// [`floor_of`] as an integer, for a row's bounds: `x` clamped to ±10¹⁵ and floored, with
 /// integer compares and selects where the float's `r > x` became an unpredictable branch per row.
-/// Exact for every `x` but NaN (which gives 0).
+/// Exact for every `x` but NaN (meaningless then: the callers rule it out). No float-to-integer
+/// conversion, whose saturation and NaN checks cost more than the floor: the rounded value's bits
+/// are the integer.
 #[inline]
 fn floor_int(x: f64) -> i64 {
+    // Adding 1.5·2⁵² rounds to the nearest integer and lands in [2⁵², 2⁵³), where consecutive
+    // integers have consecutive bit patterns.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
     let x = x.clamp(-1e15, 1e15);
-    // The truncation is exact below 2⁵³; one less when it rounded a negative fraction up.
-    let t = x as i64;
-    t - i64::from(t as f64 > x)
+    let m = x + ROUND;
+    let nearest = m.to_bits() as i64 - ROUND.to_bits() as i64;
+    nearest - i64::from(m - ROUND > x)
 }
 
-/// [`ceil`] as an integer, likewise.
+/// `x.ceil()` as an integer, likewise.
 #[inline]
 fn ceil_int(x: f64) -> i64 {
     -floor_int(-x)
@@ -502,6 +514,47 @@ mod tests {
     fn emit_before(row: usize, lo: f64, hi: f64, run: &mut impl FnMut(usize, usize, usize)) {
         if lo <= hi && hi >= 0.0 {
             run(row, lo.max(0.0) as usize, hi as usize);
+        }
+    }
+
+    #[test]
+    fn a_fan_with_one_bad_gap_anywhere_has_no_near_field() {
+        // Invariant: NearField::of is None when any neighbouring pair of beams (first, middle or
+        // last) turns the other way, is 90° or more apart, repeats a bearing or has a zero
+        // direction, and Some for the same dense fan without it.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 400, 400, 0.05).expect("valid");
+        let sensor = Point2::new(10.0, 10.0);
+        let fan = |n: usize| -> Vec<Reach> {
+            (0..n)
+                .map(|k| {
+                    let a = -1.5 + 3.0 * k as f64 / (n - 1) as f64;
+                    Reach {
+                        direction: Vector2::new(a.cos(), a.sin()) * 6.0,
+                        length: 6.0,
+                        seen_from: 0.0,
+                        far_to: 5.8,
+                    }
+                })
+                .collect()
+        };
+        let good = fan(361);
+        assert!(NearField::of(&geom, sensor, &good).is_some());
+        for at in [1, 180, 360] {
+            let mut bad = good.clone();
+            bad[at].direction = good[at - 1].direction; // a repeated bearing
+            assert!(
+                NearField::of(&geom, sensor, &bad).is_none(),
+                "repeat at {at}"
+            );
+            let mut bad = good.clone();
+            bad[at].direction = Vector2::zeros();
+            assert!(NearField::of(&geom, sensor, &bad).is_none(), "zero at {at}");
+            let mut bad = good.clone();
+            bad.swap(at - 1, at); // turns back
+            assert!(NearField::of(&geom, sensor, &bad).is_none(), "swap at {at}");
+            let mut bad = good.clone();
+            bad[at].direction = -good[at - 1].direction; // 90° or more
+            assert!(NearField::of(&geom, sensor, &bad).is_none(), "wide at {at}");
         }
     }
 

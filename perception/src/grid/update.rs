@@ -232,8 +232,8 @@ impl ObstacleGrid {
     fn record_hits(&mut self, frame: &RangeFrame, s: &mut Scratch) {
         let f = self.frame;
         let sensor = frame.sensor();
-        let step = mean_beam_step(frame);
         let (geom, l) = (&self.geom, &mut self.layers);
+        let quiet = moving::QuietRadii::new(mean_beam_step(frame), geom.resolution());
         s.hits.clear();
         s.quiet.clear();
         for beam in frame.beams().iter().filter(|b| b.kind == BeamEnd::Hit) {
@@ -243,8 +243,7 @@ impl ObstacleGrid {
             if l.record_hit(i, f) {
                 s.hits.push(i as u32);
                 let len = (beam.end - sensor).norm();
-                s.quiet
-                    .push(moving::quiet_radius(len, step, geom.resolution()) as u8);
+                s.quiet.push(quiet.of(len) as u8);
             }
         }
     }

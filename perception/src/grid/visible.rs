@@ -82,13 +82,17 @@ impl VisibleArea {
     /// Folds slot `s`'s cells that no newer slot saw into `older`, and clears the slot.
     fn retire(&mut self, s: usize) {
         let held = self.frame[s];
-        let mut newer = [usize::MAX; SLOTS];
-        for (n, t) in (0..SLOTS)
-            .filter(|&t| t != s && self.frame[t] > held)
-            .enumerate()
-        {
-            newer[n] = t * self.words;
+        // The newer slots, oldest first: the frame after `held` saw most of what it saw, so one
+        // slot's union usually leaves nothing gone and the others need not be read.
+        let mut newer = [0; SLOTS];
+        let mut count = 0;
+        for t in (0..SLOTS).filter(|&t| t != s && self.frame[t] > held) {
+            newer[count] = t;
+            count += 1;
         }
+        newer[..count].sort_unstable_by_key(|&t| self.frame[t]);
+        let newer = newer.map(|t| t * self.words);
+        let newer = &newer[..count];
         let base = s * self.words;
         for k in self.span[s].words(self.words) {
             let w = self.planes[base + k];
@@ -97,7 +101,10 @@ impl VisibleArea {
                 continue;
             }
             self.planes[base + k] = [0; 4];
-            for &t in newer.iter().filter(|&&t| t != usize::MAX) {
+            for &t in newer {
+                if gone == 0 {
+                    break;
+                }
                 gone &= !self.planes[t + k][ANY];
             }
             while gone != 0 {

@@ -65,14 +65,100 @@ const MAX_QUIET: usize = 4;
 /// returns, so the quiet neighbourhood must reach that far — and at least one cell (Chen's
 /// 8-neighbourhood), capped at [`MAX_QUIET`] cells.
 pub(crate) fn quiet_radius(range: f64, beam_step: f64, resolution: f64) -> usize {
-    let half_spacing = range * beam_step / (2.0 * GRAZING_LIMIT_DEG.to_radians().sin());
     // ceil(x) = −floor(−x), bit for bit; the inline floor spares a library call per return.
-    let cells = -floor(-(half_spacing / resolution));
+    let cells = -floor(-(half_spacing(range, beam_step) / resolution));
     if cells.is_finite() {
         (cells as usize).clamp(1, MAX_QUIET)
     } else {
         1
     }
+}
+
+/// [`quiet_radius`] for one frame's beam step and grid: the ranges at which it steps up are found
+/// once, so that a return costs three compares instead of two dependent divisions.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct QuietRadii {
+    beam_step: f64,
+    resolution: f64,
+    /// `up[m − 1]`: the greatest range whose radius is at most `m` (within `0..=limit`).
+    up: [f64; MAX_QUIET - 1],
+    /// Ranges `0..=limit` are looked up; others (and NaN) computed.
+    limit: f64,
+}
+
+impl QuietRadii {
+    /// Ranges beyond this (m) are computed, not looked up.
+    const LIMIT: f64 = 1e9;
+
+    /// The radii of a frame whose beams are `beam_step` apart, on cells of `resolution`.
+    pub(crate) fn new(beam_step: f64, resolution: f64) -> Self {
+        let mut radii = Self {
+            beam_step,
+            resolution,
+            up: [0.0; MAX_QUIET - 1],
+            limit: -1.0,
+        };
+        // quiet_radius is monotone in the range where each rounding step is (a non-negative step
+        // over positive divisors) and finite: there, its radius exceeds m exactly beyond the
+        // greatest range whose cell count is at most m.
+        let radius = |r: f64| quiet_radius(r, beam_step, resolution);
+        let counts = |r: f64| {
+            let c = half_spacing(r, beam_step) / resolution;
+            c.is_finite().then_some(c)
+        };
+        if !(beam_step >= 0.0
+            && beam_step.is_finite()
+            && resolution > 0.0
+            && counts(Self::LIMIT).is_some())
+        {
+            return radii;
+        }
+        for m in 1..MAX_QUIET {
+            // The estimate, then float by float to the last range at most m (a step or two).
+            let guess = m as f64 * resolution / half_spacing(1.0, beam_step);
+            let mut r = if guess.is_finite() {
+                guess.clamp(0.0, Self::LIMIT)
+            } else {
+                Self::LIMIT
+            };
+            let within = |r: f64| radius(r) <= m;
+            let mut steps = 0;
+            while !within(r) && r > 0.0 && steps < 64 {
+                r = f64::from_bits(r.to_bits() - 1);
+                steps += 1;
+            }
+            loop {
+                let next = f64::from_bits(r.to_bits() + 1);
+                if next > Self::LIMIT || !within(next) || steps >= 64 {
+                    break;
+                }
+                r = next;
+                steps += 1;
+            }
+            if steps >= 64 || !within(r) {
+                return radii; // not found near the estimate: compute every radius
+            }
+            radii.up[m - 1] = r;
+        }
+        radii.limit = Self::LIMIT;
+        radii
+    }
+
+    /// `quiet_radius(range, beam_step, resolution)`, bit for bit.
+    #[inline]
+    pub(crate) fn of(&self, range: f64) -> usize {
+        if range >= 0.0 && range <= self.limit {
+            1 + self.up.iter().filter(|&&u| range > u).count()
+        } else {
+            quiet_radius(range, self.beam_step, self.resolution)
+        }
+    }
+}
+
+/// Half the along-surface spacing (m) of returns `beam_step` apart at `range` at the grazing limit.
+#[inline]
+fn half_spacing(range: f64, beam_step: f64) -> f64 {
+    range * beam_step / (2.0 * GRAZING_LIMIT_DEG.to_radians().sin())
 }
 
 /// History bits of frames t−2 and t−1.
@@ -201,6 +287,42 @@ mod tests {
         // lies behind the cell, as for something coming towards the sensor) it does not.
         assert!(!appeared_in_free_space(&l, &g, i, 3, quiet, (20.0, 5.5)));
         assert!(appeared_in_free_space(&l, &g, i, 3, quiet, (-10.0, 5.5)));
+    }
+
+    #[test]
+    fn looked_up_radii_are_the_computed_ones() {
+        // Invariant: QuietRadii::of equals quiet_radius bit for bit for every range (at and either
+        // side of each step, negative, huge, infinite, NaN) and every beam step and resolution
+        // (zero, tiny, huge, negative and NaN steps included).
+        let mut s = 0x853c_49e6_748f_ea9b_u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut steps = vec![0.0, 1e-300, 1e300, -0.01, f64::NAN, f64::INFINITY];
+        steps.extend((0..200).map(|_| (0.01 + r() * 2.0_f64).to_radians()));
+        let mut looked_up = 0;
+        for (n, &step) in steps.iter().enumerate() {
+            let resolution = [0.05, 0.01, 0.1, 1e-300, 0.02 + r() * 0.2][n % 5];
+            let radii = QuietRadii::new(step, resolution);
+            looked_up += usize::from(radii.limit > 0.0);
+            let mut ranges = vec![0.0, -0.0, -1.0, 1e12, f64::INFINITY, f64::NAN, 1e9];
+            ranges.extend((0..300).map(|_| r() * 40.0));
+            for &u in &radii.up {
+                let bits = u.to_bits();
+                ranges.extend((bits.saturating_sub(3)..bits + 4).map(f64::from_bits));
+            }
+            for range in ranges {
+                assert_eq!(
+                    radii.of(range),
+                    quiet_radius(range, step, resolution),
+                    "range {range:e} step {step:e} resolution {resolution:e}"
+                );
+            }
+        }
+        assert!(looked_up > 150, "only {looked_up} frames looked radii up");
     }
 
     #[test]
