@@ -542,6 +542,94 @@ mod tests {
     }
 
     #[test]
+    fn filling_the_near_field_of_room_scans_marks_exactly_what_walking_every_beam_does() {
+        // Invariant: for 0.5° scans of rooms (long, smooth ranges: the fan is dense out to where
+        // the bound on diagonal cells, not on cells along an axis, ends), at any yaw, with boxes
+        // standing near and far, filling the near field leaves every cell crossed, seen free and
+        // crossed far exactly as walking every beam whole does, and so every class.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 420, 420, 0.05).expect("valid");
+        let mut s = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // Distance along `d` from `o` to the boundary of the box `lo..hi` (from inside), or to
+        // its near side (from outside), if the ray meets it.
+        let slab = |o: Point2<f64>, d: nalgebra::Vector2<f64>, lo: [f64; 2], hi: [f64; 2]| {
+            let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+            for k in 0..2 {
+                let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+                t0 = t0.max(a.min(b));
+                t1 = t1.min(a.max(b));
+            }
+            (t0 <= t1 && t1 > 0.0).then_some(if t0 > 0.0 { t0 } else { t1 })
+        };
+        let mut filled = 0;
+        for scene in 0..24 {
+            let mut fast = ObstacleGrid::new(geom, GridConfig::default());
+            let mut whole = ObstacleGrid::new(geom, GridConfig::default());
+            whole.scratch.walk_whole = true;
+            // Mostly rooms whose walls lie beyond the range limit, so that the density bound,
+            // not the returns, ends the near field.
+            let size = if scene % 3 == 0 {
+                1.2 + r() * 19.5
+            } else {
+                16.0 + r() * 4.5
+            };
+            let room = ([0.6, 0.6], [size, size * (0.8 + 0.2 * r())]);
+            let boxes: Vec<([f64; 2], [f64; 2])> = (0..(r() * 5.0) as usize)
+                .map(|_| {
+                    let (x, y) = (1.0 + r() * 18.0, 1.0 + r() * 18.0);
+                    ([x, y], [x + 0.2 + r(), y + 0.2 + r()])
+                })
+                .collect();
+            let mut sensor = Point2::new(
+                room.0[0] + (room.1[0] - room.0[0]) * (0.35 + 0.3 * r()),
+                room.0[1] + (room.1[1] - room.0[1]) * (0.35 + 0.3 * r()),
+            );
+            for k in 0..3 {
+                let yaw = r() * std::f64::consts::TAU;
+                let mut frame = RangeFrame::new(sensor).expect("finite");
+                for b in 0..361 {
+                    let a = yaw + (f64::from(b) * 0.5 - 90.0).to_radians();
+                    let d = nalgebra::Vector2::new(a.cos(), a.sin());
+                    let range = boxes
+                        .iter()
+                        .filter_map(|&(lo, hi)| slab(sensor, d, lo, hi))
+                        .fold(slab(sensor, d, room.0, room.1).unwrap_or(0.0), f64::min);
+                    let (end, kind) = if range > 8.0 {
+                        (sensor + d * 8.0, BeamEnd::Clear)
+                    } else {
+                        (sensor + d * range, BeamEnd::Hit)
+                    };
+                    frame.push_beam(Beam {
+                        end,
+                        kind,
+                        seen_from: 0.0,
+                    });
+                }
+                fast.update(&frame, f64::from(k)).expect("in order");
+                whole.update(&frame, f64::from(k)).expect("in order");
+                let f = fast.frame;
+                let (a, b) = (&fast.layers.visible, &whole.layers.visible);
+                for i in 0..geom.len() {
+                    assert_eq!(
+                        (a.crossed_in(i, f), a.free(i, f), a.far(i, f)),
+                        (b.crossed_in(i, f), b.free(i, f), b.far(i, f)),
+                        "scene {scene} frame {k} cell {i}"
+                    );
+                }
+                assert_eq!(fast.layers.class, whole.layers.class, "scene {scene}");
+                filled += usize::from(NearField::of(&geom, sensor, &fast.scratch.reach).is_some());
+                sensor += nalgebra::Vector2::new(r() - 0.5, r() - 0.5) * 0.3;
+            }
+        }
+        assert!(filled > 50, "the near field was filled in {filled} frames");
+    }
+
+    #[test]
     fn cells_within_the_free_gap_of_a_return_are_observed_not_freed() {
         // Invariant: along a beam ending in a return, cells left at least `free_gap` before the return
         // become Free; nearer ones stay Unknown (the ray may run inside the surface) yet count as seen.
