@@ -17,6 +17,14 @@
 //! office lie there. The fan is cut into parts of under 90°, each with its own outer radius, so that
 //! "overlaps the part" is three half-plane tests per cell (in front of the part, past its first
 //! bearing, short of its last), each linear along a row.
+//!
+//! Two cuts of the fan: coarse parts, as wide as 90° allows, and fine parts, cut also where the
+//! bound the near returns put on the radius changes (a chair 4.7 m away shortens the beams around
+//! it, not all 90° of them). A part costs a fill of every row it reaches, so a fine part is only
+//! filled where it reaches farther than the coarse parts it overlaps, and only the rows it reaches
+//! from there out. Each beam skips as far as the fill reaches along it: on the office scan,
+//! 23 800 steps become 16 700 for about 4 µs more of fill. Every filled cell lies in a part whose
+//! own bound holds for it, so the union is exact too.
 
 use nalgebra::Vector2;
 
@@ -86,7 +94,8 @@ pub(crate) struct NearField {
     filled_to: Vec<f64>,
 }
 
-/// A part is cut where the beams' bound from near returns changes by more than this (cells)…
+/// A fine part is cut where the beams' bound from near returns changes by more than this
+/// (cells)… (4, 8 and 12 measured within 2 µs of each other on the office scan.)
 const STEP: f64 = 8.0;
 
 /// …once it holds this many beams.
@@ -556,6 +565,64 @@ mod tests {
             bad[at].direction = -good[at - 1].direction; // 90° or more
             assert!(NearField::of(&geom, sensor, &bad).is_none(), "wide at {at}");
         }
+    }
+
+    #[test]
+    fn a_part_filled_from_a_radius_marks_every_cell_reaching_beyond_it() {
+        // Invariant: a part filled only from `r_from` out (deep enough there to be filled at all)
+        // marks a subset of the cells the whole part marks, and among them every one whose far
+        // corner lies at `r_from` or beyond.
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 300, 300, 0.05).expect("valid");
+        let mut s = 0x1234_5678_9abc_def1_u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let cells = |near: &NearField| {
+            let mut set = std::collections::BTreeSet::new();
+            near.fill(&geom, |y, x0, x1| set.extend((x0..=x1).map(|x| (x, y))));
+            set
+        };
+        let mut checked = 0;
+        for case in 0..400 {
+            let (sx, sy) = (100.0 + r() * 100.0, 100.0 + r() * 100.0);
+            let theta = r() * std::f64::consts::TAU;
+            let width = r() * 1.5;
+            let unit = |a: f64| Vector2::new(a.cos(), a.sin());
+            let r_out = 20.0 + r() * 120.0;
+            let part = Part {
+                beams: (0, 1),
+                first: unit(theta),
+                last: unit(theta + width),
+                r_out,
+                r_from: 0.0,
+            };
+            let near = |part: Part| NearField {
+                sensor: (sx, sy),
+                r_in: 2.0,
+                parts: vec![part],
+                filled_to: Vec::new(),
+            };
+            let whole = cells(&near(part));
+            let r_from = r() * r_out;
+            let banded = Part { r_from, ..part };
+            if !banded.filled(r_from.max(2.0)) {
+                continue; // too thin a band to fill: never kept
+            }
+            let band = cells(&near(banded));
+            assert!(band.is_subset(&whole), "case {case}");
+            for &(x, y) in &whole {
+                let far_x = (x as f64 - sx).abs().max((x as f64 + 1.0 - sx).abs());
+                let far_y = (y as f64 - sy).abs().max((y as f64 + 1.0 - sy).abs());
+                if far_x.hypot(far_y) >= r_from {
+                    assert!(band.contains(&(x, y)), "case {case}: cell {x}, {y}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100_000, "only {checked} cells checked");
     }
 
     #[test]
