@@ -43,6 +43,8 @@ pub(crate) struct VisibleArea {
     span: [CellBox; SLOTS],
     /// Per cell: the latest frame it was crossed in that has left the ring (0: none).
     older: Vec<u32>,
+    /// The latest frame retired so far (0: none), so at least every `older` entry.
+    retired: u32,
 }
 
 impl VisibleArea {
@@ -56,6 +58,7 @@ impl VisibleArea {
             frame: [0; SLOTS],
             span: [CellBox::EMPTY; SLOTS],
             older: vec![0; n],
+            retired: 0,
         }
     }
 
@@ -93,6 +96,7 @@ impl VisibleArea {
         newer[..count].sort_unstable_by_key(|&t| self.frame[t]);
         let newer = newer.map(|t| t * self.words);
         let newer = &newer[..count];
+        let in_order = held >= self.retired;
         let base = s * self.words;
         for k in self.span[s].words(self.words) {
             let w = self.planes[base + k];
@@ -111,10 +115,14 @@ impl VisibleArea {
                 let i = k * 64 + gone.trailing_zeros() as usize;
                 gone &= gone - 1;
                 if let Some(o) = self.older.get_mut(i) {
-                    *o = (*o).max(held);
+                    // Frames retire in order unless some were skipped: then no entry is newer, and
+                    // a plain store (which waits on no cache miss, as reading the entry would) is
+                    // the max.
+                    *o = if in_order { held } else { (*o).max(held) };
                 }
             }
         }
+        self.retired = self.retired.max(held);
     }
 
     /// The writer of frame `f`'s slot, if `f` is the current frame (after [`Self::begin`]`(f)`).
@@ -465,6 +473,24 @@ mod tests {
         v.record(7, 10, Crossing::Near);
         assert_eq!(v.last_crossed(7), 10);
         assert!(!v.begin(6), "frames do not go back");
+    }
+
+    #[test]
+    fn the_last_crossing_survives_frames_retired_out_of_order() {
+        // Invariant: when skipped frames make the ring retire an older frame after a newer one,
+        // last_crossed still keeps the newer frame for a cell both crossed (and the older one for a
+        // cell only it crossed).
+        let mut v = VisibleArea::new(100);
+        v.record(7, 1, Crossing::Far); // slot 1
+        v.record(8, 1, Crossing::Far);
+        v.record(7, 6, Crossing::Far); // slot 2
+        assert!(v.begin(10)); // slot 2 retires frame 6
+        assert!(v.begin(13)); // slot 1 retires frame 1, after frame 6
+        assert_eq!((v.last_crossed(7), v.last_crossed(8)), (6, 1));
+        for f in 14..=20 {
+            assert!(v.begin(f));
+        }
+        assert_eq!((v.last_crossed(7), v.last_crossed(8)), (6, 1));
     }
 
     #[test]
