@@ -160,11 +160,15 @@ impl VisibleArea {
     }
 
     /// History byte of cell `i` as seen from frame `f` (bit k: frame f − k), from `pick` applied to
-    /// the frame's `[far, free, near]` words.
+    /// the frame's `[far, free, near]` words, of the frames set in `frames` (the others' bits 0 and
+    /// their slots not read: a rule asking about one or two frames reads one or two words).
     #[inline]
-    fn history(&self, i: usize, f: u32, pick: impl Fn(Group) -> u64) -> u8 {
+    fn history(&self, i: usize, f: u32, frames: u8, pick: impl Fn(Group) -> u64) -> u8 {
         let mut bits = 0u8;
         for k in 0..SLOTS as u32 {
+            if frames >> k & 1 == 0 {
+                continue;
+            }
             let Some(g) = f.checked_sub(k) else { break };
             if let Some(w) = self.word(i, g) {
                 bits |= ((pick(w) >> (i % 64) & 1) as u8) << k;
@@ -175,15 +179,29 @@ impl VisibleArea {
 
     /// Frames in which `i` was crossed at least the free gap before the return (seen free), as seen
     /// from frame `f`: bit k = frame f − k, k < [`SLOTS`].
-    #[inline]
+    #[cfg(test)]
     pub fn free(&self, i: usize, f: u32) -> u8 {
-        self.history(i, f, |w| w[FAR] | w[FREE])
+        self.free_in(i, f, 0b1111)
+    }
+
+    /// Of the frames in `frames` (bit k: frame f − k), those in which `i` was crossed at least the
+    /// free gap before the return, as seen from frame `f`; only those frames are read.
+    #[inline]
+    pub fn free_in(&self, i: usize, f: u32, frames: u8) -> u8 {
+        self.history(i, f, frames, |w| w[FAR] | w[FREE])
     }
 
     /// Frames in which `i` was crossed at least the clear margin before the return, as seen from `f`.
-    #[inline]
+    #[cfg(test)]
     pub fn far(&self, i: usize, f: u32) -> u8 {
-        self.history(i, f, |w| w[FAR])
+        self.far_in(i, f, 0b1111)
+    }
+
+    /// Of the frames in `frames`, those in which `i` was crossed at least the clear margin before
+    /// the return, as seen from frame `f`; only those frames are read.
+    #[inline]
+    pub fn far_in(&self, i: usize, f: u32, frames: u8) -> u8 {
+        self.history(i, f, frames, |w| w[FAR])
     }
 
     /// True when a ray crossed `i` in frame `f`, however near its return.
@@ -491,6 +509,35 @@ mod tests {
             assert!(v.begin(f));
         }
         assert_eq!((v.last_crossed(7), v.last_crossed(8)), (6, 1));
+    }
+
+    #[test]
+    fn a_history_of_some_frames_is_those_bits_of_the_whole() {
+        // Invariant: free_in and far_in for any frame mask are free and far masked, over random
+        // crossings of every kind in frames around and beyond the ring (also right after frame 0).
+        let mut s = 0x3c6e_f372_fe94_f82b_u64;
+        let mut r = move |m: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s % m
+        };
+        let mut v = VisibleArea::new(200);
+        let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
+        for f in 1..=12 {
+            for _ in 0..60 {
+                v.record(r(200) as usize, f, kinds[r(3) as usize]);
+            }
+            assert!(v.begin(f));
+            for i in 0..200 {
+                for g in f.saturating_sub(1)..=f + 1 {
+                    for frames in 0..16 {
+                        assert_eq!(v.free_in(i, g, frames), v.free(i, g) & frames, "{i} {g}");
+                        assert_eq!(v.far_in(i, g, frames), v.far(i, g) & frames, "{i} {g}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
