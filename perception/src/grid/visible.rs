@@ -309,10 +309,11 @@ fn fold_word(bytes: &mut [u8; 64]) -> [u64; 3] {
     *bytes = [0; 64];
     let mut planes = [0u64; 3];
     for (q, &v) in v.iter().enumerate() {
-        if v != 0 {
-            for (p, plane) in planes.iter_mut().enumerate() {
-                *plane |= gather(v >> p) << (8 * q);
-            }
+        planes[FAR] |= gather(v) << (8 * q);
+        // Most walked cells are crossed far only (all but the last few before a return).
+        if v & !ONES != 0 {
+            planes[FREE] |= gather(v >> 1) << (8 * q);
+            planes[NEAR] |= gather(v >> 2) << (8 * q);
         }
     }
     planes
