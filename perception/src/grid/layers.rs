@@ -126,13 +126,28 @@ impl Layers {
 
     /// Frames in which a ray crossed `i` (without ending there) at least the free gap before its return
     /// — the cell was seen free — as seen from frame `f`.
-    #[inline]
+    #[cfg(test)]
     pub fn crossed(&self, i: usize, f: u32) -> u8 {
         self.visible.free(i, f)
     }
 
-    /// Frames in which a ray crossed `i` well before its return, as seen from frame `f`.
+    /// Of the frames in `frames` (bit k: frame f − k), those in which a ray crossed `i` at least the
+    /// free gap before its return (the cell was seen free), as seen from frame `f`; only those
+    /// frames are read.
     #[inline]
+    pub fn crossed_in_frames(&self, i: usize, f: u32, frames: u8) -> u8 {
+        self.visible.free_in(i, f, frames)
+    }
+
+    /// Of the frames in `frames`, those in which a ray crossed `i` well before its return, as seen
+    /// from frame `f`; only those frames are read.
+    #[inline]
+    pub fn crossed_far_in_frames(&self, i: usize, f: u32, frames: u8) -> u8 {
+        self.visible.far_in(i, f, frames)
+    }
+
+    /// Frames in which a ray crossed `i` well before its return, as seen from frame `f`.
+    #[cfg(test)]
     pub fn crossed_far(&self, i: usize, f: u32) -> u8 {
         self.visible.far(i, f)
     }

@@ -376,7 +376,7 @@ impl ObstacleGrid {
             let to_free = match class {
                 CellClass::Free => None,
                 CellClass::Unknown | CellClass::Moving => {
-                    (l.crossed(i, f) & 1 != 0).then_some(Rule::SeenFree)
+                    (l.crossed_in_frames(i, f, 1) != 0).then_some(Rule::SeenFree)
                 }
                 CellClass::Movable if !active => {
                     movable::deleted(l, &self.geom, i, f).then_some(Rule::MovableDeletion)

@@ -43,6 +43,8 @@ pub(crate) struct VisibleArea {
     span: [CellBox; SLOTS],
     /// Per cell: the latest frame it was crossed in that has left the ring (0: none).
     older: Vec<u32>,
+    /// The latest frame retired so far (0: none), so at least every `older` entry.
+    retired: u32,
 }
 
 impl VisibleArea {
@@ -56,6 +58,7 @@ impl VisibleArea {
             frame: [0; SLOTS],
             span: [CellBox::EMPTY; SLOTS],
             older: vec![0; n],
+            retired: 0,
         }
     }
 
@@ -93,6 +96,7 @@ impl VisibleArea {
         newer[..count].sort_unstable_by_key(|&t| self.frame[t]);
         let newer = newer.map(|t| t * self.words);
         let newer = &newer[..count];
+        let in_order = held >= self.retired;
         let base = s * self.words;
         for k in self.span[s].words(self.words) {
             let w = self.planes[base + k];
@@ -111,10 +115,14 @@ impl VisibleArea {
                 let i = k * 64 + gone.trailing_zeros() as usize;
                 gone &= gone - 1;
                 if let Some(o) = self.older.get_mut(i) {
-                    *o = (*o).max(held);
+                    // Frames retire in order unless some were skipped: then no entry is newer, and
+                    // a plain store (which waits on no cache miss, as reading the entry would) is
+                    // the max.
+                    *o = if in_order { held } else { (*o).max(held) };
                 }
             }
         }
+        self.retired = self.retired.max(held);
     }
 
     /// The writer of frame `f`'s slot, if `f` is the current frame (after [`Self::begin`]`(f)`).
@@ -152,11 +160,15 @@ impl VisibleArea {
     }
 
     /// History byte of cell `i` as seen from frame `f` (bit k: frame f − k), from `pick` applied to
-    /// the frame's `[far, free, near]` words.
+    /// the frame's `[far, free, near]` words, of the frames set in `frames` (the others' bits 0 and
+    /// their slots not read: a rule asking about one or two frames reads one or two words).
     #[inline]
-    fn history(&self, i: usize, f: u32, pick: impl Fn(Group) -> u64) -> u8 {
+    fn history(&self, i: usize, f: u32, frames: u8, pick: impl Fn(Group) -> u64) -> u8 {
         let mut bits = 0u8;
         for k in 0..SLOTS as u32 {
+            if frames >> k & 1 == 0 {
+                continue;
+            }
             let Some(g) = f.checked_sub(k) else { break };
             if let Some(w) = self.word(i, g) {
                 bits |= ((pick(w) >> (i % 64) & 1) as u8) << k;
@@ -167,15 +179,29 @@ impl VisibleArea {
 
     /// Frames in which `i` was crossed at least the free gap before the return (seen free), as seen
     /// from frame `f`: bit k = frame f − k, k < [`SLOTS`].
-    #[inline]
+    #[cfg(test)]
     pub fn free(&self, i: usize, f: u32) -> u8 {
-        self.history(i, f, |w| w[FAR] | w[FREE])
+        self.free_in(i, f, 0b1111)
+    }
+
+    /// Of the frames in `frames` (bit k: frame f − k), those in which `i` was crossed at least the
+    /// free gap before the return, as seen from frame `f`; only those frames are read.
+    #[inline]
+    pub fn free_in(&self, i: usize, f: u32, frames: u8) -> u8 {
+        self.history(i, f, frames, |w| w[FAR] | w[FREE])
     }
 
     /// Frames in which `i` was crossed at least the clear margin before the return, as seen from `f`.
-    #[inline]
+    #[cfg(test)]
     pub fn far(&self, i: usize, f: u32) -> u8 {
-        self.history(i, f, |w| w[FAR])
+        self.far_in(i, f, 0b1111)
+    }
+
+    /// Of the frames in `frames`, those in which `i` was crossed at least the clear margin before
+    /// the return, as seen from frame `f`; only those frames are read.
+    #[inline]
+    pub fn far_in(&self, i: usize, f: u32, frames: u8) -> u8 {
+        self.history(i, f, frames, |w| w[FAR])
     }
 
     /// True when a ray crossed `i` in frame `f`, however near its return.
@@ -283,10 +309,11 @@ fn fold_word(bytes: &mut [u8; 64]) -> [u64; 3] {
     *bytes = [0; 64];
     let mut planes = [0u64; 3];
     for (q, &v) in v.iter().enumerate() {
-        if v != 0 {
-            for (p, plane) in planes.iter_mut().enumerate() {
-                *plane |= gather(v >> p) << (8 * q);
-            }
+        planes[FAR] |= gather(v) << (8 * q);
+        // Most walked cells are crossed far only (all but the last few before a return).
+        if v & !ONES != 0 {
+            planes[FREE] |= gather(v >> 1) << (8 * q);
+            planes[NEAR] |= gather(v >> 2) << (8 * q);
         }
     }
     planes
@@ -465,6 +492,53 @@ mod tests {
         v.record(7, 10, Crossing::Near);
         assert_eq!(v.last_crossed(7), 10);
         assert!(!v.begin(6), "frames do not go back");
+    }
+
+    #[test]
+    fn the_last_crossing_survives_frames_retired_out_of_order() {
+        // Invariant: when skipped frames make the ring retire an older frame after a newer one,
+        // last_crossed still keeps the newer frame for a cell both crossed (and the older one for a
+        // cell only it crossed).
+        let mut v = VisibleArea::new(100);
+        v.record(7, 1, Crossing::Far); // slot 1
+        v.record(8, 1, Crossing::Far);
+        v.record(7, 6, Crossing::Far); // slot 2
+        assert!(v.begin(10)); // slot 2 retires frame 6
+        assert!(v.begin(13)); // slot 1 retires frame 1, after frame 6
+        assert_eq!((v.last_crossed(7), v.last_crossed(8)), (6, 1));
+        for f in 14..=20 {
+            assert!(v.begin(f));
+        }
+        assert_eq!((v.last_crossed(7), v.last_crossed(8)), (6, 1));
+    }
+
+    #[test]
+    fn a_history_of_some_frames_is_those_bits_of_the_whole() {
+        // Invariant: free_in and far_in for any frame mask are free and far masked, over random
+        // crossings of every kind in frames around and beyond the ring (also right after frame 0).
+        let mut s = 0x3c6e_f372_fe94_f82b_u64;
+        let mut r = move |m: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s % m
+        };
+        let mut v = VisibleArea::new(200);
+        let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
+        for f in 1..=12 {
+            for _ in 0..60 {
+                v.record(r(200) as usize, f, kinds[r(3) as usize]);
+            }
+            assert!(v.begin(f));
+            for i in 0..200 {
+                for g in f.saturating_sub(1)..=f + 1 {
+                    for frames in 0..16 {
+                        assert_eq!(v.free_in(i, g, frames), v.free(i, g) & frames, "{i} {g}");
+                        assert_eq!(v.far_in(i, g, frames), v.far(i, g) & frames, "{i} {g}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -8,7 +8,7 @@ use super::super::layers::Layers;
 /// Grazing rays cross wall cells just before their return (never "well before"), so walls stay walls;
 /// a removed object, seen through twice, goes.
 pub(crate) fn cleared(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
-    if l.crossed_far(i, f) & 0b11 != 0b11 {
+    if l.crossed_far_in_frames(i, f, 0b11) != 0b11 {
         return false;
     }
     let mut quiet = true;

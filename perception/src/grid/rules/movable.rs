@@ -128,7 +128,7 @@ pub(crate) fn added(cell: (i32, i32), motion: &[(i32, i32)], radius_cells: f64) 
 /// 8-neighbourhood this frame — a ray slipping past an object's corner crosses the corner cell far
 /// before its return while the object is still there, returned next to it.
 pub(crate) fn deleted(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
-    if l.crossed_far(i, f) & 1 == 0 {
+    if l.crossed_far_in_frames(i, f, 1) == 0 {
         return false;
     }
     let mut quiet = true;

@@ -30,7 +30,7 @@ pub(crate) fn appeared_in_free_space(
 ) -> bool {
     // Seen free at t−1 and t−2: one crossing is not yet free space (a surface edge-on is crossed by
     // one ray and returned by the next); free space stays free frame after frame.
-    if l.class[i] != CellClass::Free as u8 || l.crossed(i, f) & 0b110 != 0b110 {
+    if l.class[i] != CellClass::Free as u8 || l.crossed_in_frames(i, f, 0b110) != 0b110 {
         return false;
     }
     let w = g.width();
