@@ -459,6 +459,45 @@ mod tests {
     use super::*;
     use nalgebra::Point2;
 
+    /// Two grids fed the same frames: one fills the near field, one walks every beam whole.
+    struct FilledAndWalked {
+        fast: ObstacleGrid,
+        whole: ObstacleGrid,
+    }
+
+    impl FilledAndWalked {
+        fn new(geom: GridGeometry) -> Self {
+            let mut whole = ObstacleGrid::new(geom, GridConfig::default());
+            whole.scratch.walk_whole = true;
+            Self {
+                fast: ObstacleGrid::new(geom, GridConfig::default()),
+                whole,
+            }
+        }
+
+        /// Folds `frame` into both and asserts that every cell was crossed, seen free and crossed
+        /// far alike, and that every class agrees.
+        fn update(&mut self, frame: &RangeFrame, now: f64, what: &str) {
+            self.fast.update(frame, now).expect("in order");
+            self.whole.update(frame, now).expect("in order");
+            let f = self.fast.frame;
+            let (a, b) = (&self.fast.layers.visible, &self.whole.layers.visible);
+            for i in 0..self.fast.geom.len() {
+                assert_eq!(
+                    (a.crossed_in(i, f), a.free(i, f), a.far(i, f)),
+                    (b.crossed_in(i, f), b.free(i, f), b.far(i, f)),
+                    "{what}, cell {i}"
+                );
+            }
+            assert_eq!(self.fast.layers.class, self.whole.layers.class, "{what}");
+        }
+
+        /// Whether the last frame's near field was filled.
+        fn filled(&self, sensor: Point2<f64>) -> bool {
+            NearField::of(&self.fast.geom, sensor, &self.fast.scratch.reach).is_some()
+        }
+    }
+
     #[test]
     fn filling_the_dense_near_field_marks_exactly_what_walking_every_beam_does() {
         // Invariant: with the near field filled instead of walked, every frame leaves every cell
@@ -475,9 +514,7 @@ mod tests {
         };
         let mut filled_any = 0;
         for scene in 0..60 {
-            let mut fast = ObstacleGrid::new(geom, GridConfig::default());
-            let mut whole = ObstacleGrid::new(geom, GridConfig::default());
-            whole.scratch.walk_whole = true;
+            let mut grids = FilledAndWalked::new(geom);
             let n = 20 + (r() * 500.0) as usize;
             let span = (0.2 + r() * 4.5).min(std::f64::consts::TAU * 0.99);
             let clockwise = r() < 0.5;
@@ -512,25 +549,14 @@ mod tests {
                         seen_from: blind * r(),
                     });
                 }
-                fast.update(&frame, k as f64).expect("in order");
-                whole.update(&frame, k as f64).expect("in order");
-                let f = fast.frame;
-                let (a, b) = (&fast.layers.visible, &whole.layers.visible);
-                for i in 0..geom.len() {
-                    assert_eq!(
-                        (a.crossed_in(i, f), a.free(i, f), a.far(i, f)),
-                        (b.crossed_in(i, f), b.free(i, f), b.far(i, f)),
-                        "scene {scene} frame {k} cell {i}"
-                    );
-                }
-                assert_eq!(fast.layers.class, whole.layers.class, "scene {scene}");
+                grids.update(&frame, f64::from(k), &format!("scene {scene} frame {k}"));
                 // The free bits follow the classes.
-                let l = &fast.layers;
+                let (f, l) = (grids.fast.frame, &grids.fast.layers);
                 assert!((0..geom.len()).all(|i| {
                     (l.free[i / 64] >> (i % 64) & 1 == 1) == (l.class[i] == CellClass::Free as u8)
                 }));
-                let walked_less = (0..geom.len()).any(|i| a.far(i, f) & 1 != 0)
-                    && NearField::of(&geom, sensor, &fast.scratch.reach).is_some();
+                let walked_less =
+                    (0..geom.len()).any(|i| l.visible.far(i, f) & 1 != 0) && grids.filled(sensor);
                 filled_any += usize::from(walked_less);
                 sensor += nalgebra::Vector2::new(r() - 0.5, r() - 0.5) * 0.2;
             }
@@ -568,9 +594,7 @@ mod tests {
         };
         let mut filled = 0;
         for scene in 0..24 {
-            let mut fast = ObstacleGrid::new(geom, GridConfig::default());
-            let mut whole = ObstacleGrid::new(geom, GridConfig::default());
-            whole.scratch.walk_whole = true;
+            let mut grids = FilledAndWalked::new(geom);
             // Mostly rooms whose walls lie beyond the range limit, so that the density bound,
             // not the returns, ends the near field.
             let size = if scene % 3 == 0 {
@@ -610,19 +634,8 @@ mod tests {
                         seen_from: 0.0,
                     });
                 }
-                fast.update(&frame, f64::from(k)).expect("in order");
-                whole.update(&frame, f64::from(k)).expect("in order");
-                let f = fast.frame;
-                let (a, b) = (&fast.layers.visible, &whole.layers.visible);
-                for i in 0..geom.len() {
-                    assert_eq!(
-                        (a.crossed_in(i, f), a.free(i, f), a.far(i, f)),
-                        (b.crossed_in(i, f), b.free(i, f), b.far(i, f)),
-                        "scene {scene} frame {k} cell {i}"
-                    );
-                }
-                assert_eq!(fast.layers.class, whole.layers.class, "scene {scene}");
-                filled += usize::from(NearField::of(&geom, sensor, &fast.scratch.reach).is_some());
+                grids.update(&frame, f64::from(k), &format!("scene {scene} frame {k}"));
+                filled += usize::from(grids.filled(sensor));
                 sensor += nalgebra::Vector2::new(r() - 0.5, r() - 0.5) * 0.3;
             }
         }
