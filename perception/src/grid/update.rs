@@ -502,8 +502,8 @@ mod tests {
     fn filling_the_dense_near_field_marks_exactly_what_walking_every_beam_does() {
         // Invariant: with the near field filled instead of walked, every frame leaves every cell
         // crossed, seen free and crossed far exactly as walking every beam whole does, and so every
-        // class (and the free bits agree with the classes); over fans of all widths, densities,
-        // orders, ranges and blind zones.
+        // class (and the free bits agree with the classes); over fans of all widths, densities
+        // (even and uneven), orders, ranges and blind zones.
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 240, 200, 0.05).expect("valid");
         let mut s = 0x2545_f491_4f6c_dd1d_u64;
         let mut r = move || {
@@ -531,7 +531,14 @@ mod tests {
                 };
                 let mut frame = RangeFrame::new(sensor).expect("finite");
                 for b in 0..n {
-                    let u = b as f64 / (n - 1) as f64;
+                    // A third of the scenes space their beams unevenly (each bearing moved by up
+                    // to 30 % of the spacing): parts of the fan then differ in density.
+                    let jitter = if scene % 3 == 1 {
+                        0.6 * (r() - 0.5)
+                    } else {
+                        0.0
+                    };
+                    let u = (b as f64 + jitter) / (n - 1) as f64;
                     let a = yaw + span * if clockwise { 1.0 - u } else { u };
                     let d = nalgebra::Vector2::new(a.cos(), a.sin());
                     let range = if near_obstacle && b == n / 3 {
