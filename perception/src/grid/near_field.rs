@@ -33,10 +33,21 @@ use super::frame::Beam;
 use super::geometry::GridGeometry;
 
 /// Nearest the sensor the fill may start (cells): nearer, a cell subtends so much that the
-/// half-plane tests below would not describe its bearings. A part is under 120° wide, so a cell
-/// that overlaps it lies under 60° off its middle bearing plus the most a cell this far out
-/// spans, `2·asin(√½ / 3)` = 27.3°: all its corners lie in front of the sensor.
-const MIN_INNER: f64 = 3.0;
+/// half-plane tests below would not describe its bearings (see [`inner_radius`]).
+const MIN_INNER: f64 = 2.0;
+
+/// How near the sensor the fill of parts up to `half` (radians) either side of their middle
+/// bearing may start: a cell that overlaps such a part lies under `half` off its middle bearing
+/// plus the most a cell spans from `r` out, `2·asin(√½ / r)`; from where that stays under 90°,
+/// all its corners lie in front of the sensor (what the fill's first half-plane test asks). For
+/// parts of 90°, 1.85 cells; of 120°, 2.73.
+fn inner_radius(half: f64) -> f64 {
+    let spare = (std::f64::consts::FRAC_PI_2 - half) / 2.0;
+    if spare <= 0.0 {
+        return f64::INFINITY;
+    }
+    (std::f64::consts::FRAC_1_SQRT_2 / spare.sin() * (1.0 + 1e-3)).max(MIN_INNER)
+}
 
 /// Whether direction `d` lies under 120° from `first` (with a margin): within one part.
 fn within_part(first: Vector2<f64>, d: Vector2<f64>) -> bool {
@@ -149,7 +160,6 @@ impl NearField {
         }
         let narrowest = gaps.iter().copied().fold(1.0, f64::min).sqrt().asin();
         let seen = reach.iter().map(|r| r.seen_from).fold(0.0, f64::max) / res;
-        let r_in = (seen + SLACK).max(MIN_INNER);
         // How far out each beam's cells may be filled as far as the returns go: a beam whose reach
         // is `R` can only cross cells within `spread` of its bearing beyond `R`, so it bounds the
         // beams within `within` of it (only a beam short of the density bound can matter).
@@ -233,8 +243,15 @@ impl NearField {
             }
         }
         let coarse = parts.len();
+        let fine = split(true, n);
+        let half = parts
+            .iter()
+            .chain(&fine)
+            .map(|p| p.first.dot(&p.last).clamp(-1.0, 1.0).acos() / 2.0)
+            .fold(0.0, f64::max);
+        let r_in = (seen + SLACK).max(inner_radius(half));
         let mut filled_to = vec![f64::INFINITY; n];
-        for mut part in split(true, n) {
+        for mut part in fine {
             let (b0, b1) = part.beams;
             // Filled by the coarse parts it overlaps (unless one of them is not filled at all).
             part.r_from = parts[..coarse]
