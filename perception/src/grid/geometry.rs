@@ -359,15 +359,13 @@ mod tests {
                 x
             }
         }
-        let mut s = 0x6a09_e667_f3bc_c909_u64;
+        let mut next = super::super::test_rng::xorshift(0x6a09_e667_f3bc_c909_u64);
         let mut xs = Vec::new();
         for e in [2_251_799_813_685_248.0, 4_503_599_627_370_496.0, 0.5, 0.0] {
             xs.extend([e, -e, e + 0.5, -e - 0.5, e - 0.5, 0.5 - e]);
         }
         for _ in 0..20_000 {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
+            let s = next();
             let scaled = (s >> 11) as f64 / (1u64 << 53) as f64 * 2e3 - 1e3;
             for v in [
                 f64::from_bits(s),

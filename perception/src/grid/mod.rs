@@ -99,6 +99,8 @@ mod near_field;
 mod queries;
 mod raster;
 pub mod rules;
+#[cfg(test)]
+mod test_rng;
 mod traversal;
 mod update;
 mod visible;

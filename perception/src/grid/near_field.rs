@@ -606,13 +606,7 @@ mod tests {
         // marks a subset of the cells the whole part marks, and among them every one whose far
         // corner lies at `r_from` or beyond.
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 300, 300, 0.05).expect("valid");
-        let mut s = 0x1234_5678_9abc_def1_u64;
-        let mut r = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut r = super::super::test_rng::uniform(0x1234_5678_9abc_def1_u64);
         let cells = |near: &NearField| {
             let mut set = std::collections::BTreeSet::new();
             near.fill(&geom, |y, x0, x1| set.extend((x0..=x1).map(|x| (x, y))));
@@ -664,13 +658,7 @@ mod tests {
         // it replaced did, for parts of any bearing (axis-aligned ones too), width and radii, and
         // sensors inside, beside and far outside the grid (infinitely far included).
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 230, 170, 0.05).expect("valid");
-        let mut s = 0x2545_f491_4f6c_dd1d_u64;
-        let mut r = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut r = super::super::test_rng::uniform(0x2545_f491_4f6c_dd1d_u64);
         let mut runs = 0;
         for case in 0..3000 {
             let sensor = match case % 10 {

@@ -492,13 +492,7 @@ mod tests {
         // field and bit for bit, the one set up through Liang–Barsky — for ends inside, on the border
         // (±0 too), just outside and far outside, axis-aligned and not.
         let (w, h) = (40.0, 30.0);
-        let mut s = 0x1f2e_3d4c_u64;
-        let mut r = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            s
-        };
+        let mut r = super::super::test_rng::xorshift(0x1f2e_3d4c_u64);
         let mut coord = |n: f64| {
             let u = (r() % 1_000_000) as f64 / 1_000_000.0;
             match r() % 8 {
@@ -611,13 +605,8 @@ mod tests {
     fn every_step_moves_to_a_neighbouring_cell() {
         // Invariant: consecutive cells differ by one step in x, y or both, and the walk ends in the
         // end point's cell, for many random-looking rays.
-        let mut s = 0x2545_f491_u64;
-        let mut r = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % 10_000) as f64 / 1000.0
-        };
+        let mut next = super::super::test_rng::xorshift(0x2545_f491_u64);
+        let mut r = || (next() % 10_000) as f64 / 1000.0;
         for _ in 0..2000 {
             let (ax, ay, bx, by) = (r(), r(), r(), r());
             let v = cells(ax, ay, bx, by);
@@ -647,13 +636,8 @@ mod tests {
         // cell, each once, with the kind of its own exit parameter, within the box of the cells it returns.
         let geom =
             GridGeometry::with_cells(nalgebra::Point2::new(0.0, 0.0), 40, 30, 1.0).expect("valid");
-        let mut s = 0x9e37_79b9_u64;
-        let mut r = |m: f64| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % 100_000) as f64 / 100_000.0 * m
-        };
+        let mut next = super::super::test_rng::xorshift(0x9e37_79b9_u64);
+        let mut r = |m: f64| (next() % 100_000) as f64 / 100_000.0 * m;
         for n in 0..20_000 {
             let a = if n % 11 == 0 {
                 Point2::new(r(40.0).round() * 0.5, r(30.0).round() * 0.5)

@@ -505,13 +505,7 @@ mod tests {
         // class (and the free bits agree with the classes); over fans of all widths, densities
         // (even and uneven), orders, ranges and blind zones.
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 240, 200, 0.05).expect("valid");
-        let mut s = 0x2545_f491_4f6c_dd1d_u64;
-        let mut r = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut r = super::super::test_rng::uniform(0x2545_f491_4f6c_dd1d_u64);
         let mut filled_any = 0;
         for scene in 0..60 {
             let mut grids = FilledAndWalked::new(geom);
@@ -581,13 +575,7 @@ mod tests {
         // standing near and far, filling the near field leaves every cell crossed, seen free and
         // crossed far exactly as walking every beam whole does, and so every class.
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 420, 420, 0.05).expect("valid");
-        let mut s = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut r = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut r = super::super::test_rng::uniform(0x9e37_79b9_7f4a_7c15_u64);
         // Distance along `d` from `o` to the boundary of the box `lo..hi` (from inside), or to
         // its near side (from outside), if the ray meets it.
         let slab = |o: Point2<f64>, d: nalgebra::Vector2<f64>, lo: [f64; 2], hi: [f64; 2]| {

@@ -516,13 +516,8 @@ mod tests {
     fn a_history_of_some_frames_is_those_bits_of_the_whole() {
         // Invariant: free_in and far_in for any frame mask are free and far masked, over random
         // crossings of every kind in frames around and beyond the ring (also right after frame 0).
-        let mut s = 0x3c6e_f372_fe94_f82b_u64;
-        let mut r = move |m: u64| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            s % m
-        };
+        let mut next = super::super::test_rng::xorshift(0x3c6e_f372_fe94_f82b_u64);
+        let mut r = move |m: u64| next() % m;
         let mut v = VisibleArea::new(200);
         let kinds = [Crossing::Far, Crossing::Free, Crossing::Near];
         for f in 1..=12 {
@@ -646,13 +641,8 @@ mod tests {
         // Invariant: fold_levels (a whole word at a time) leaves the same planes, the same bytes
         // and the same crossed words as the chunk-at-a-time fold it replaced, for any bytes (high
         // bits too), boxes and grid sizes (with and without a partial last word), over frames.
-        let mut s = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut r = move |m: usize| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % m as u64) as usize
-        };
+        let mut next = super::super::test_rng::xorshift(0x9e37_79b9_7f4a_7c15_u64);
+        let mut r = move |m: usize| (next() % m as u64) as usize;
         for case in 0..40 {
             let width = 1 + r(150);
             let height = 1 + r(40);

@@ -294,13 +294,7 @@ mod tests {
         // Invariant: QuietRadii::of equals quiet_radius bit for bit for every range (at and either
         // side of each step, negative, huge, infinite, NaN) and every beam step and resolution
         // (zero, tiny, huge, negative and NaN steps included).
-        let mut s = 0x853c_49e6_748f_ea9b_u64;
-        let mut r = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut r = crate::grid::test_rng::uniform(0x853c_49e6_748f_ea9b_u64);
         let mut steps = vec![0.0, 1e-300, 1e300, -0.01, f64::NAN, f64::INFINITY];
         steps.extend((0..200).map(|_| (0.01 + r() * 2.0_f64).to_radians()));
         let mut looked_up = 0;
