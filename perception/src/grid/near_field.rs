@@ -281,7 +281,7 @@ impl NearField {
     }
 
     /// The distances (m) from the sensor between which beam `k` needs no walking, if any: from the
-    /// inner radius plus a cell diagonal to the outer radius of its parts less one.
+    /// inner radius plus a cell diagonal to as far as the fill reaches along it, less one.
     pub(crate) fn skipped(&self, k: usize, resolution: f64) -> Option<(f64, f64)> {
         let d = std::f64::consts::SQRT_2 + SLACK;
         let (near, far) = (self.r_in + d, self.filled_to.get(k)? - d);

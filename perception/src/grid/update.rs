@@ -570,10 +570,10 @@ mod tests {
 
     #[test]
     fn filling_the_near_field_of_room_scans_marks_exactly_what_walking_every_beam_does() {
-        // Invariant: for 0.5° scans of rooms (long, smooth ranges: the fan is dense out to where
-        // the bound on diagonal cells, not on cells along an axis, ends), at any yaw, with boxes
-        // standing near and far, filling the near field leaves every cell crossed, seen free and
-        // crossed far exactly as walking every beam whole does, and so every class.
+        // Invariant: for 0.5° scans of rooms (long, smooth ranges, so that the density bound and
+        // not the returns ends most of the near field), at any yaw, with boxes standing near and
+        // far, filling the near field leaves every cell crossed, seen free and crossed far exactly
+        // as walking every beam whole does, and so every class.
         let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 420, 420, 0.05).expect("valid");
         let mut r = super::super::test_rng::uniform(0x9e37_79b9_7f4a_7c15_u64);
         // Distance along `d` from `o` to the boundary of the box `lo..hi` (from inside), or to
