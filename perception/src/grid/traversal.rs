@@ -49,7 +49,9 @@ impl Traversal {
     /// The cells of `geom` crossed by the segment `from → to` (map frame). Parts outside the grid are
     /// skipped; a segment entirely outside, or with a non-finite end, yields nothing.
     pub fn new(geom: &GridGeometry, from: Point2<f64>, to: Point2<f64>) -> Self {
-        Self::between(geom, geom.grid_coords(from), geom.grid_coords(to))
+        let (ax, ay) = geom.grid_coords(from);
+        let (bx, by) = geom.grid_coords(to);
+        Self::in_grid_units(ax, ay, bx, by, geom.width() as f64, geom.height() as f64)
     }
 
     /// [`Self::new`] from both ends' continuous grid coordinates
