@@ -31,7 +31,7 @@ fn observe(rec: &mut impl Observer) {
     rec.cloud(&cloud);
     rec.transition(
         1.0,
-        &State::LookAround,
+        Some(&State::LookAround),
         Edge::LookAroundDone,
         &State::DetectObjects,
     );

@@ -4,8 +4,9 @@ use std::sync::atomic::Ordering;
 
 use nalgebra::{Isometry2, Point2, Vector2};
 use nudge_executive::record::NullObserver;
+use nudge_executive::record::Observer;
 use nudge_executive::robot::{FakeRobot, RobotError};
-use nudge_executive::{AbortReason, RunConfig, Runner, State};
+use nudge_executive::{AbortReason, Edge, RunConfig, Runner, State};
 use nudge_motion::RobotCylinder;
 
 fn config() -> RunConfig {
@@ -101,4 +102,39 @@ fn the_same_seed_gives_the_same_run() {
     let a = Runner::new(robot(), NullObserver, config()).run();
     let b = Runner::new(robot(), NullObserver, config()).run();
     assert_eq!(a, b);
+}
+
+/// Every transition an observer is shown: (from, edge, to).
+#[derive(Default)]
+struct Transitions(Vec<(Option<&'static str>, Edge, &'static str)>);
+
+impl Observer for Transitions {
+    fn transition(&mut self, _stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
+        self.0.push((from.map(State::name), edge, to.name()));
+    }
+}
+
+#[test]
+fn the_start_leaves_no_state_and_every_later_step_leaves_the_one_before() {
+    // Invariant: the run's first timeline entry and observed transition is the Start edge from no
+    // state into LookAround; every later one leaves the state the one before entered, and the
+    // observer sees exactly the timeline.
+    let mut runner = Runner::new(robot(), Transitions::default(), config());
+    let report = runner.run();
+    let first = report.timeline.first().expect("a run has a start");
+    assert_eq!(
+        (first.from, first.edge, first.to),
+        (None, Edge::Start, "LookAround")
+    );
+    for pair in report.timeline.windows(2) {
+        assert_eq!(pair[1].from, Some(pair[0].to), "{:?}", pair[1]);
+        assert_ne!(pair[1].edge, Edge::Start);
+    }
+    let (_, seen) = runner.into_parts();
+    let timeline: Vec<_> = report
+        .timeline
+        .iter()
+        .map(|t| (t.from, t.edge, t.to))
+        .collect();
+    assert_eq!(seen.0, timeline);
 }

@@ -21,7 +21,13 @@ fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
         report.robot_time
     );
     for t in &report.timeline {
-        println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
+        println!(
+            "  {:7.2} s  {} -> {} ({:?})",
+            t.stamp,
+            t.from.unwrap_or("(start)"),
+            t.to,
+            t.edge
+        );
     }
     for s in &scored {
         println!(
@@ -215,7 +221,13 @@ fn person_run(name: &str) -> (RunReport, Vec<Edge>) {
     )
     .expect("world builds");
     for t in &report.timeline {
-        println!("  {:7.2} s  {} -> {} ({:?})", t.stamp, t.from, t.to, t.edge);
+        println!(
+            "  {:7.2} s  {} -> {} ({:?})",
+            t.stamp,
+            t.from.unwrap_or("(start)"),
+            t.to,
+            t.edge
+        );
     }
     let person = &scenario.actors[0];
     let plan = Plan::new(person).expect("valid actor");

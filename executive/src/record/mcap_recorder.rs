@@ -269,8 +269,9 @@ impl<W: Write + Seek> McapRecorder<W> {
 const WRENCH_SCHEMA: &str = r#"{"type":"object","properties":{"force":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"torque":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"force_norm":{"type":"number"}}}"#;
 
 impl<W: Write + Seek> Observer for McapRecorder<W> {
-    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {
-        let text = format!("{} -> {} ({edge:?})", from.name(), to.name());
+    fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
+        let from = from.map_or("(start)", State::name);
+        let text = format!("{from} -> {} ({edge:?})", to.name());
         self.log(stamp, Level::Info, "executive", text);
     }
 

@@ -51,8 +51,9 @@ pub struct RobotFrames {
 /// Receives what happens during a run.
 #[allow(unused_variables)]
 pub trait Observer {
-    /// The machine took `edge` from `from` to `to`.
-    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {}
+    /// The machine took `edge` from `from` to `to`; `from` is `None` for the run's first step
+    /// ([`Edge::Start`]), which leaves no state.
+    fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {}
     /// A push test ended in a verdict, with its evidence.
     fn verdict(
         &mut self,
@@ -90,7 +91,7 @@ impl Observer for NullObserver {}
 
 /// Two observers side by side: both see everything, the first first.
 impl<A: Observer, B: Observer> Observer for (A, B) {
-    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {
+    fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
         self.0.transition(stamp, from, edge, to);
         self.1.transition(stamp, from, edge, to);
     }
@@ -144,7 +145,7 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
 
 /// An observer that may be absent (`--record` not given): forwards to the inner one when present.
 impl<O: Observer> Observer for Option<O> {
-    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {
+    fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
         if let Some(o) = self {
             o.transition(stamp, from, edge, to);
         }

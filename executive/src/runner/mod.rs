@@ -105,13 +105,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.start_grid();
         let mut timeline = Vec::new();
         let mut step = start();
-        self.record(&mut timeline, &State::LookAround, &step);
+        self.record(&mut timeline, None, &step);
         while !step.state.is_terminal() {
             let Some(event) = self.execute(&step.commands) else {
                 break;
             };
             let next = transition(&step.state, &step.knowledge, &event, &self.config.executive);
-            self.record(&mut timeline, &step.state, &next);
+            self.record(&mut timeline, Some(&step.state), &next);
             self.report_verdicts(&step.knowledge, &next.knowledge, &event);
             step = next;
         }
@@ -125,13 +125,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
-    fn record(&mut self, timeline: &mut Vec<TimelineEntry>, from: &State, step: &Step) {
+    fn record(&mut self, timeline: &mut Vec<TimelineEntry>, from: Option<&State>, step: &Step) {
         let stamp = self.robot.now();
         self.observer
             .transition(stamp, from, step.edge, &step.state);
         timeline.push(TimelineEntry {
             stamp,
-            from: from.name(),
+            from: from.map(State::name),
             edge: step.edge,
             to: step.state.name(),
         });

@@ -11,8 +11,8 @@ use crate::state::State;
 pub struct TimelineEntry {
     /// Robot-clock time of the transition (s).
     pub stamp: f64,
-    /// The state left.
-    pub from: &'static str,
+    /// The state left (`None` for the run's start, [`Edge::Start`]).
+    pub from: Option<&'static str>,
     /// The edge taken.
     pub edge: Edge,
     /// The state entered.

@@ -11,13 +11,10 @@ pub struct TimelinePrinter {
 }
 
 impl Observer for TimelinePrinter {
-    fn transition(&mut self, stamp: f64, from: &State, edge: Edge, to: &State) {
-        if self.enabled && from.name() != to.name() {
-            println!(
-                "{stamp:8.2} s  {:<17} -> {:<17} {edge:?}",
-                from.name(),
-                to.name()
-            );
+    fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
+        let from = from.map_or("(start)", State::name);
+        if self.enabled && from != to.name() {
+            println!("{stamp:8.2} s  {from:<17} -> {:<17} {edge:?}", to.name());
         }
     }
 

@@ -104,7 +104,7 @@ impl MapCollector {
 }
 
 impl Observer for MapCollector {
-    fn transition(&mut self, _stamp: f64, _from: &State, _edge: Edge, to: &State) {
+    fn transition(&mut self, _stamp: f64, _from: Option<&State>, _edge: Edge, to: &State) {
         match to {
             State::PushTest {
                 target, attempt, ..
@@ -237,10 +237,10 @@ mod tests {
             intent: intent.clone(),
             attempt: 1,
         };
-        run.transition(1.0, &State::LookAround, Edge::Cleared, &testing);
+        run.transition(1.0, Some(&State::LookAround), Edge::Cleared, &testing);
         run.wrench(1.1, &wrench(5.0));
         run.wrench(1.2, &wrench(12.0));
-        run.transition(2.0, &testing, Edge::Cleared, &State::LookAround);
+        run.transition(2.0, Some(&testing), Edge::Cleared, &State::LookAround);
         run.wrench(2.5, &wrench(7.0));
         run.push(2.0, &intent, Some(Vector2::new(-12.0, 0.0)));
         assert_eq!(run.tests.len(), 1);
