@@ -43,7 +43,12 @@
 //!    *confirmed* motion comes to rest: motion that went on into new cells (or cells something has
 //!    just left, seen through with nothing around). A return that appears and stays in its cell is a
 //!    blip (a grazed wall looks just so): moving while motion is nearby, else the stationary test.
-//! 5. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
+//! 5. **Entered** (`rules/moving.rs`, `entered_free_cell`): a return in a cell last seen free (class
+//!    Free) with nothing returned in its 8-neighbourhood at t−1 or t−2 has arrived there — a static
+//!    surface cannot — though perhaps unseen for longer than the moving rule remembers (a suitcase
+//!    pulled out of the shadow of the person pulling it): moving while motion is nearby, else the
+//!    stationary test.
+//! 6. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
 //!    return (none of the above) with temporarily stationary returns in its 8-neighbourhood at t−1 and
 //!    at t−2, and no movable cell within 3 cells (a movable object's fringe never becomes a wall).
 //!    Otherwise it stays *tentative* (class Unknown, evidence `Tentative`) or keeps its Stationary class.

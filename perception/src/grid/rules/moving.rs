@@ -57,6 +57,22 @@ pub(crate) fn appeared_in_free_space(
     calm
 }
 
+/// Something has entered a cell last seen free: its class is Free (the last thing the grid saw there
+/// was a ray going through), and nothing was returned in its 8-neighbourhood at t−1 or t−2, so it is
+/// not a surface returned next to it jittering across a cell boundary (Chen 2.4's neighbourhood). A
+/// static surface cannot do that; a moving obstacle can, and one that came to rest. The moving rule
+/// misses it when the cell was seen free too long ago or too near a ray's return — a suitcase pulled
+/// out of the shadow of the person pulling it enters cells nobody saw for frames. Whether it moves
+/// or rests is the rest test's question (motion seen near it in the same frame).
+pub(crate) fn entered_free_cell(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
+    if l.class[i] != CellClass::Free as u8 {
+        return false;
+    }
+    let mut calm = true;
+    g.for_3x3(i, |j| calm &= l.hits(j, f) & RECENT == 0);
+    calm
+}
+
 /// The steepest a surface can be grazed and still return (degrees from the surface): an SR4000-like
 /// camera returns nothing beyond 80° incidence, a laser scanner little beyond.
 pub(crate) const GRAZING_LIMIT_DEG: f64 = 10.0;
@@ -324,6 +340,27 @@ mod tests {
         // lies behind the cell, as for something coming towards the sensor) it does not.
         assert!(!appeared_in_free_space(&l, &g, i, 3, quiet, (20.0, 5.5)));
         assert!(appeared_in_free_space(&l, &g, i, 3, quiet, (-10.0, 5.5)));
+    }
+
+    #[test]
+    fn a_return_in_a_cell_last_seen_free_with_no_surface_beside_it_has_entered() {
+        // Invariant: entered iff the cell is Free and nothing was returned in its 3×3 block at t−1 or
+        // t−2 (a return there three frames ago does not count); a cell not Free has not been entered.
+        let (g, mut l) = grid();
+        let i = 55;
+        l.class[i] = CellClass::Free as u8;
+        l.record_hit(i + 1, 2);
+        l.record_hit(i, 5);
+        assert!(entered_free_cell(&l, &g, i, 5));
+        l.record_hit(i - 11, 3);
+        assert!(
+            !entered_free_cell(&l, &g, i, 5),
+            "a return beside it at t−2"
+        );
+        let (g, mut l) = grid();
+        l.class[i] = CellClass::Unknown as u8;
+        l.record_hit(i, 5);
+        assert!(!entered_free_cell(&l, &g, i, 5));
     }
 
     #[test]
