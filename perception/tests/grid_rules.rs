@@ -84,18 +84,26 @@ fn visible_area_is_free_and_the_return_cell_is_not() {
 
 #[test]
 fn a_return_where_last_frame_saw_free_space_is_moving() {
-    // Invariant (Tamura 3.1): free in V_{t−1} (and V_{t−2}) + return at t ⇒ Moving.
+    // Invariant (Tamura 3.1): seen free (well before the ray's return) in V_{t−1} + return at t ⇒ Moving.
     let mut g = grid();
-    run(&mut g, &[clear_row(), clear_row(), hit_at(5)]);
+    run(&mut g, &[clear_row(), hit_at(5)]);
     assert_eq!(g.class(c(5)), Some(CellClass::Moving));
     assert_eq!(evidence(&g, c(5)), Evidence::Passive(Rule::Moving));
 }
 
 #[test]
 fn a_return_in_free_space_seen_only_earlier_is_not_moving() {
-    // Invariant: only the previous frame's visible area counts; a gap frame makes the return tentative.
+    // Invariant: the visible areas of the last three frames count (the cell unseen in between), not
+    // older ones: three frames without a look at the cell make the return tentative.
     let mut g = grid();
-    run(&mut g, &[clear_row(), look_away(), hit_at(5)]);
+    run(&mut g, &[clear_row(), look_away(), look_away(), hit_at(5)]);
+    assert_eq!(g.class(c(5)), Some(CellClass::Moving));
+    let mut g = grid();
+    let away = look_away();
+    run(
+        &mut g,
+        &[clear_row(), away.clone(), away.clone(), away, hit_at(5)],
+    );
     assert_eq!(g.class(c(5)), Some(CellClass::Unknown));
     assert_eq!(evidence(&g, c(5)), Evidence::Passive(Rule::Tentative));
 }

@@ -10,8 +10,8 @@
 //! called anything but Stationary or Unknown; the resting suitcase becomes Movable and never
 //! Stationary; once it is taken away its cells are no longer Movable. `HALLWAY_MISSES=1` prints
 //! every return whose Moving call disagrees with the truth; `HALLWAY_SEED=N` walks another noise seed
-//! (the goals are met on the scenario's seed 1; seed 4 reads 96.39 % and 8 wall cells Movable, where
-//! grazed wall returns near the range limit drop out and come back).
+//! in the first test. The second test walks noise seeds 2–10: the goals must not hang on a lucky seed
+//! (held out while the rules were fixed, seeds 11–20 met them too, at 98.25–98.50 %).
 
 use std::collections::HashSet;
 
@@ -260,12 +260,79 @@ fn pct(v: Option<f64>) -> String {
 }
 
 /// Tamura's and Chen's goals: ≥ 98 % of the returns on moving things called Moving, under 1 % of
-/// the wall cells ever misclassified. On this run (seed 1) the grid reaches 98.05 % (48 of 2467
-/// returns missed: 22 in the person's first two frames back inside the 5 m range, where no previous
-/// frame saw; 8 on its flanks as it steps sideways round the suitcase; 15 on the suitcase as it is
-/// taken, from behind the person and at the edge of the view; 3 as the person enters the view).
+/// the wall cells ever misclassified. On seed 1 the grid reaches 98.34 % (41 of 2467 returns
+/// missed: 28 in the person's first three frames back inside the 5 m range, beyond the 4.8 m to
+/// which the camera's clear columns saw the floor the frame before; 5 on the suitcase as it is taken,
+/// behind the person; 8 on the suitcase at the edge of the view once the person pulling it has left
+/// the view, read as resting), and 98.10–98.50 % on seeds 2–10.
 const MOVING_RECALL_GOAL: f64 = 0.98;
 const WALLS_WRONG_GOAL: f64 = 0.01;
+
+impl Run {
+    fn moving_recall(&self) -> Option<f64> {
+        self.returns.recall(TrueClass::Moving)
+    }
+
+    /// Share of the wall cells ever classified that were ever misclassified.
+    fn walls_wrong_share(&self) -> f64 {
+        self.walls_wrong.len() as f64 / self.walls_seen.len().max(1) as f64
+    }
+
+    /// The goals this run misses, in words (none when all are met).
+    fn missed_goals(&self) -> Vec<String> {
+        let recall = self.moving_recall();
+        let checks = [
+            (
+                self.reached_goal,
+                "the robot must walk to the goal".to_string(),
+            ),
+            (
+                self.moving_frames > 0,
+                "the person must come into view".into(),
+            ),
+            (
+                recall.is_some_and(|r| r >= MOVING_RECALL_GOAL),
+                format!(
+                    "Moving recall {} is under the {:.0} % goal",
+                    pct(recall),
+                    100.0 * MOVING_RECALL_GOAL
+                ),
+            ),
+            (
+                self.walls_wrong_share() < WALLS_WRONG_GOAL,
+                format!(
+                    "{:.2} % of wall cells misclassified",
+                    100.0 * self.walls_wrong_share()
+                ),
+            ),
+            (
+                self.suitcase_movable_frames > 0,
+                "the resting suitcase never became Movable".into(),
+            ),
+            (
+                self.suitcase_stationary_frames == 0,
+                format!(
+                    "the resting suitcase was Stationary in {} frames",
+                    self.suitcase_stationary_frames
+                ),
+            ),
+            (self.taken_at.is_some(), "the suitcase must be taken".into()),
+            (
+                self.movable_left_at_end == 0,
+                format!(
+                    "{} Movable cells left where the suitcase rested",
+                    self.movable_left_at_end
+                ),
+            ),
+        ];
+        checks
+            .into_iter()
+            .filter(|(met, _)| !met)
+            .map(|(_, what)| what)
+            .collect()
+    }
+}
+
 #[test]
 fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
     // Invariant: walking Tamura's hallway, at least 98 % of the returns on moving things are called Moving, under 1 % of wall cells are ever misclassified, the resting suitcase becomes Movable and is never Stationary, and its cells are deleted once it is taken.
@@ -280,8 +347,8 @@ fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
         "{}",
         run.cells.table("observed cells (one true class per cell):")
     );
-    let moving_recall = run.returns.recall(TrueClass::Moving);
-    let wall_wrong = run.walls_wrong.len() as f64 / run.walls_seen.len().max(1) as f64;
+    let moving_recall = run.moving_recall();
+    let wall_wrong = run.walls_wrong_share();
     println!(
         "end t = {:.1} s, goal reached: {}; frames with moving returns: {}; Moving recall (returns) {}, (cells) {}",
         run.end_time,
@@ -315,9 +382,6 @@ fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
         run.movable_left_at_end,
         run.rest_cells.len(),
     );
-
-    assert!(run.reached_goal, "the robot must walk to the goal");
-    assert!(run.moving_frames > 0, "the person must come into view");
     println!(
         "goals: Moving recall >= {:.0} %: {}; wall cells misclassified < {:.0} %: {}",
         100.0 * MOVING_RECALL_GOAL,
@@ -333,28 +397,42 @@ fn the_hallway_grid_meets_tamuras_goals_against_ground_truth() {
             "NOT met"
         },
     );
-    assert!(
-        moving_recall.is_some_and(|r| r >= MOVING_RECALL_GOAL),
-        "Moving recall {} is under the {:.0} % goal",
-        pct(moving_recall),
-        100.0 * MOVING_RECALL_GOAL
-    );
-    assert!(
-        wall_wrong < WALLS_WRONG_GOAL,
-        "{:.2} % of wall cells misclassified",
-        100.0 * wall_wrong
-    );
-    assert!(
-        run.suitcase_movable_frames > 0,
-        "the resting suitcase never became Movable"
-    );
-    assert_eq!(
-        run.suitcase_stationary_frames, 0,
-        "the resting suitcase was Stationary"
-    );
-    assert!(run.taken_at.is_some(), "the suitcase must be taken");
-    assert_eq!(
-        run.movable_left_at_end, 0,
-        "Movable cells left where the suitcase rested"
-    );
+    let missed = run.missed_goals();
+    assert!(missed.is_empty(), "seed {seed}: {}", missed.join("; "));
+}
+
+/// The sensor-noise seeds besides the scenario's on which the goals must hold too (a walk takes
+/// about 2 s; two run at once).
+const OTHER_SEEDS: std::ops::RangeInclusive<u64> = 2..=10;
+
+#[test]
+fn the_hallway_goals_hold_on_other_noise_seeds() {
+    // Invariant: the goals of the test above (Moving recall ≥ 98 %, under 1 % of wall cells ever misclassified, the resting suitcase Movable and never Stationary, its cells deleted once taken) hold on every noise seed 2–10, not on a lucky one.
+    let seeds: Vec<u64> = OTHER_SEEDS.collect();
+    let (first, second) = seeds.split_at(seeds.len() / 2);
+    let walk =
+        |seeds: &[u64]| -> Vec<(u64, Run)> { seeds.iter().map(|&s| (s, run_hallway(s))).collect() };
+    let mut runs = std::thread::scope(|scope| {
+        let other = scope.spawn(|| walk(second));
+        let mut runs = walk(first);
+        runs.extend(other.join().expect("the other half of the seeds ran"));
+        runs
+    });
+    runs.sort_by_key(|(seed, _)| *seed);
+    let mut failed = Vec::new();
+    for (seed, run) in &runs {
+        println!(
+            "seed {seed}: Moving recall {}; wall cells ever misclassified {} of {}; resting suitcase Movable in {} frames, Stationary in {}",
+            pct(run.moving_recall()),
+            run.walls_wrong.len(),
+            run.walls_seen.len(),
+            run.suitcase_movable_frames,
+            run.suitcase_stationary_frames,
+        );
+        let missed = run.missed_goals();
+        if !missed.is_empty() {
+            failed.push(format!("seed {seed}: {}", missed.join("; ")));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
 }

@@ -9,13 +9,16 @@
 //! # Passive rules (one file each under `rules/`)
 //! Per frame, every beam is traversed from the sensor (Amanatides–Woo, `traversal.rs`); crossed cells
 //! are the visible area V_t, end cells hold returns (Tamura 3.1). The last `clear_tail` of a beam
-//! without a return is not counted (a wall entering the range limit must not look like something
-//! appearing in free space). Where a scan's beams lie closer together than a cell subtends, every
-//! cell between them is crossed by one: that annulus (`near_field.rs`) is filled a row at a time and
+//! without a return is not counted (a wall entering the range limit, or grazed beyond the incidence
+//! limit behind the floor seen up to its foot, must not look like something appearing in free
+//! space). Where a scan's beams lie closer together than a cell subtends, every cell between them
+//! is crossed by one: that annulus (`near_field.rs`) is filled a row at a time and
 //! each walk jumps over it, with the same result as walking it (tested against whole walks). A
 //! return is classified by the first rule that fires (Tamura's Fig. 5
 //! flowchart, extended; "motion nearby" = a return classified moving this frame within `rest_radius`):
-//! 1. **Moving** (Tamura 3.1, `rules/moving.rs`): the cell was seen free in V_{t−1} and V_{t−2}, and
+//! 1. **Moving** (Tamura 3.1, `rules/moving.rs`): the cell was seen free beyond doubt (crossed at
+//!    least `clear_margin` before the ray's return, farther than a grazing ray runs inside a surface's
+//!    cells) in one of V_{t−1}, V_{t−2}, V_{t−3}, and
 //!    nothing was returned in its 8-neighbourhood at t−1 or t−2 (Chen 2.4's neighbourhood, here
 //!    against rays grazing a surface: they cross its cells just before their return), nor nearer the
 //!    sensor within half the along-surface beam spacing at the grazing limit (`quiet_radius`).
@@ -23,7 +26,7 @@
 //!    Stationary cell: seen from the previous frame's sensor position, the two previous beams
 //!    straddling its bearing and the next one out on each side all went on at least `appear_gap`
 //!    past it with nothing returned — it appeared inside what the previous frame saw empty. This
-//!    needs no cell seen free twice, so a person walking in from a laser's range limit is moving from
+//!    needs no cell seen free, so a person walking in from a laser's range limit is moving from
 //!    its second frame (from its third for a camera, whose clear beams end at the farthest floor
 //!    point, short of the limit); a static surface cannot lie beyond itself on both sides of a bearing, and a wall
 //!    entering the range limit was beyond every previous beam. One binary search per return.
@@ -40,7 +43,12 @@
 //!    *confirmed* motion comes to rest: motion that went on into new cells (or cells something has
 //!    just left, seen through with nothing around). A return that appears and stays in its cell is a
 //!    blip (a grazed wall looks just so): moving while motion is nearby, else the stationary test.
-//! 5. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
+//! 5. **Entered** (`rules/moving.rs`, `entered_free_cell`): a return in a cell last seen free (class
+//!    Free) with nothing returned in its 8-neighbourhood at t−1 or t−2 has arrived there — a static
+//!    surface cannot — though perhaps unseen for longer than the moving rule remembers (a suitcase
+//!    pulled out of the shadow of the person pulling it): moving while motion is nearby, else the
+//!    stationary test.
+//! 6. **Stationary** (Tamura 3.3 with Chen 2.3–2.4, `rules/stationary.rs`): a temporarily stationary
 //!    return (none of the above) with temporarily stationary returns in its 8-neighbourhood at t−1 and
 //!    at t−2, and no movable cell within 3 cells (a movable object's fringe never becomes a wall).
 //!    Otherwise it stays *tentative* (class Unknown, evidence `Tentative`) or keeps its Stationary class.
@@ -174,16 +182,23 @@ pub struct GridConfig {
     /// that slides along itself and so looks static in a grid). About an object's size. Default 0.5 m.
     pub rest_radius: f64,
     /// A crossing counts as "well before the return" when the ray goes on at least this far past the
-    /// cell. Deletion of movable and clearing of stationary cells need it. Default 0.3 m.
+    /// cell: at least a cell over the sine of the grazing limit (0.05 / sin 10° = 0.29 m), the
+    /// stretch a ray grazing a surface runs inside that surface's row of cells. The moving rule,
+    /// deletion of movable and clearing of stationary cells need it. Default 0.3 m.
     pub clear_margin: f64,
     /// The last stretch of a beam without a return that is not counted as seen: a wall entering the
-    /// range limit next frame must not look like something appearing in free space. Default 0.15 m.
+    /// range limit next frame must not look like something appearing in free space, and a wall
+    /// grazed beyond the sensor's incidence limit returns nothing while the floor in front of it is
+    /// seen up to its foot, so the beam's last `cell / sin(grazing limit)` may run inside the wall's
+    /// own row of cells, where its returns of the frame before landed. Default 0.3 m (as
+    /// `clear_margin`, for the same reason).
     pub clear_tail: f64,
     /// A cell counts as seen free only when the ray goes on at least this far past it to its return:
     /// nearer, the ray may be crossing the returned surface itself (range noise along the beam; a
     /// beam grazing a wall runs inside the wall's cells for several centimetres before its return).
-    /// About three times the range noise at the sensor's limit: default 0.1 m (σ ≈ 3 cm at 5 m and
-    /// 80° incidence for an SR4000-like camera). Cells crossed nearer still count as observed (age).
+    /// Default 0.05 m, a cell: rays this far from their return free unknown and moving cells, while
+    /// the rules that must not fire on a grazed surface (moving, deletion, clearing) ask for the
+    /// clear margin. Cells crossed nearer still count as observed (age).
     pub free_gap: f64,
     /// A return has appeared inside the previous frame's range (moving) when the previous frame's
     /// beams around its bearing went on at least this far past it with nothing returned: about three
@@ -199,7 +214,7 @@ impl Default for GridConfig {
             moving_step: 0.15,
             rest_radius: 0.7,
             clear_margin: 0.3,
-            clear_tail: 0.15,
+            clear_tail: 0.3,
             free_gap: 0.05,
             appear_gap: 0.06,
         }

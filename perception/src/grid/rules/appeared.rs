@@ -716,14 +716,15 @@ mod tests {
 
     #[test]
     fn a_grid_calls_a_person_stepping_inside_the_range_moving_at_once() {
-        // Invariant: on a grid, a person first returned 0.3 m inside the range limit, where the
+        // Invariant: on a grid, a person first returned 0.2 m inside the range limit, where the
         // previous frame (the only one) saw nothing, is Moving in that very frame, by this rule; the
-        // cell rule alone leaves it tentative (its cells were seen free only once).
+        // cell rule alone leaves it tentative (its cells lie in the previous beams' clear tail, not
+        // seen free).
         let s = Point2::new(0.0, 0.0);
         let empty = fan(s, -20.0, 20.0, |_| Some((5.0, BeamEnd::Clear)));
         let person = fan(s, -20.0, 20.0, |deg| {
             Some(if deg.abs() <= 2.0 {
-                (4.7, BeamEnd::Hit)
+                (4.8, BeamEnd::Hit)
             } else {
                 (5.0, BeamEnd::Clear)
             })
@@ -738,7 +739,7 @@ mod tests {
             "{:?}",
             classes[1]
         );
-        let cell = grid.geometry().cell_of(at(s, 0.0, 4.7)).expect("inside");
+        let cell = grid.geometry().cell_of(at(s, 0.0, 4.8)).expect("inside");
         assert_eq!(
             grid.cell(cell).expect("inside").evidence,
             crate::grid::Evidence::Passive(crate::grid::Rule::Appeared)

@@ -73,12 +73,23 @@ pub(crate) fn decide_hit(
         if moving::near_confirmed_motion(l, i, f) {
             return HitDecision::RestCandidate;
         }
-        return match passive_rest(l, g, i, class, three_frames) {
-            HitDecision::Set(c, r) => HitDecision::MovingUnlessStill(c, r),
-            d => d,
-        };
+        return moving_unless_still(passive_rest(l, g, i, class, three_frames));
+    }
+    // Something has entered a cell last seen free, with no surface beside it before: moving while
+    // motion is seen near it (a suitcase pulled out of its puller's shadow), else the stationary test.
+    if moving::entered_free_cell(l, g, i, f) {
+        return moving_unless_still(passive_rest(l, g, i, class, three_frames));
     }
     passive_rest(l, g, i, class, three_frames)
+}
+
+/// `d` (the stationary test's verdict) while no motion is seen near the return in the same frame;
+/// moving otherwise.
+fn moving_unless_still(d: HitDecision) -> HitDecision {
+    match d {
+        HitDecision::Set(c, r) => HitDecision::MovingUnlessStill(c, r),
+        d => d,
+    }
 }
 
 /// The stationary test (Tamura 3.3 with Chen's neighbours) for a return no motion rule claimed;
@@ -163,6 +174,28 @@ mod tests {
         assert_eq!(decide_hit(&l, &g, 55, 5, appeared), moving);
         l.class[55] = CellClass::Stationary as u8;
         assert_eq!(decide_hit(&l, &g, 55, 5, appeared), HitDecision::Keep);
+    }
+
+    #[test]
+    fn a_return_entering_a_cell_last_seen_free_is_moving_unless_still() {
+        // Invariant: a return in a Free cell with nothing returned beside it at t−1 or t−2, far from
+        // last frame's motion, is moving while motion is seen near it (else the stationary test's
+        // verdict); in a cell not seen free, or next to last frame's returns, it goes to the
+        // stationary test at once.
+        let g = GridGeometry::with_cells(Point2::new(0.0, 0.0), 10, 10, 0.05).expect("valid");
+        let mut l = Layers::new(g.len());
+        l.class[55] = CellClass::Free as u8;
+        l.record_hit(55, 5);
+        let tentative = HitDecision::Set(CellClass::Unknown, Rule::Tentative);
+        assert_eq!(
+            decide_hit(&l, &g, 55, 5, FAR),
+            HitDecision::MovingUnlessStill(CellClass::Unknown, Rule::Tentative)
+        );
+        l.record_hit(56, 4);
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), tentative);
+        let mut l = Layers::new(g.len());
+        l.record_hit(55, 5);
+        assert_eq!(decide_hit(&l, &g, 55, 5, FAR), tentative);
     }
 
     #[test]

@@ -220,6 +220,50 @@ mod tests {
         assert!(!vacated(&l, &g, 44, 5), "crossed just before a return only");
     }
 
+    /// A frame of a wall along y = 0.9 m grazed from (0.1, 0) by beams 0.25° apart: those steeper
+    /// than `limit_deg` return 1 cm in front of the wall (in the row below its face, where the
+    /// short-biased returns of a grazed wall land), the shallower ones are beyond the incidence limit
+    /// and clear up to the wall's foot, where the floor is seen to.
+    fn grazed_wall(limit_deg: f64) -> crate::grid::RangeFrame {
+        let sensor = Point2::new(0.1, 0.0);
+        let mut frame = crate::grid::RangeFrame::new(sensor).expect("finite");
+        for k in 0..25 {
+            let bearing = 8.0 + 0.25 * f64::from(k);
+            let face = if bearing > limit_deg { 0.89 } else { 0.899 };
+            let end = Point2::new(sensor.x + face / bearing.to_radians().tan(), face);
+            if bearing > limit_deg {
+                frame.push_hit(end);
+            } else {
+                frame.push_clear(end);
+            }
+        }
+        frame
+    }
+
+    #[test]
+    fn a_wall_grazed_beyond_the_incidence_limit_is_not_vacated() {
+        // Invariant: when a grazed wall's last return drops beyond the incidence limit, the clear
+        // beam running along the wall's foot does not see the cell of that return vacated, so the
+        // wall's returns beside it are not made movable (with a 0.15 m clear tail they were).
+        use crate::grid::{GridConfig, ObstacleGrid};
+        let geom = GridGeometry::with_cells(Point2::new(0.0, 0.0), 140, 20, 0.05).expect("valid");
+        let frames = [grazed_wall(10.1), grazed_wall(10.1), grazed_wall(10.3)];
+        let movable_cells = |cfg: GridConfig| {
+            let mut grid = ObstacleGrid::new(geom, cfg);
+            for (k, frame) in frames.iter().enumerate() {
+                grid.update(frame, k as f64 * 0.1).expect("in order");
+            }
+            let movable = CellClass::Movable.code();
+            grid.class_codes().iter().filter(|&&c| c == movable).count()
+        };
+        assert_eq!(movable_cells(GridConfig::default()), 0);
+        let short_tail = GridConfig {
+            clear_tail: 0.15,
+            ..GridConfig::default()
+        };
+        assert!(movable_cells(short_tail) > 0, "the frames show the failure");
+    }
+
     #[test]
     fn a_row_holds_a_byte_as_contains_says() {
         // Invariant: holds(bytes, row, b) is bytes[row].contains(&b) (false out of range) for rows of

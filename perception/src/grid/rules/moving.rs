@@ -4,9 +4,19 @@ use super::super::class::CellClass;
 use super::super::geometry::{GridGeometry, floor};
 use super::super::layers::Layers;
 
-/// Tamura 3.1: the cell holds a return now and was in the visible area V_{t−1} (and V_{t−2}) as free
-/// space: crossed at least the free gap before a return, so not merely by a ray running along the
-/// surface that returned it.
+/// Tamura 3.1: the cell holds a return now and was in the visible area of one of the last three
+/// frames (V_{t−1}, V_{t−2} or V_{t−3}) as free space beyond doubt: crossed at least the clear margin
+/// before a return (or along a beam without one), not merely the free gap.
+///
+/// Why the clear margin: a ray grazing a surface at angle α runs inside the surface's row of cells for
+/// `cell / sin α` before its return — 0.29 m for 5 cm cells at the [`GRAZING_LIMIT_DEG`] — and noisy
+/// returns of that surface land in those cells. A crossing nearer its return than that can be a ray
+/// running along a wall just beside the cell a later return of the same wall lands in (a wall coming
+/// out from behind an obstacle is seen so, crossed a few centimetres before its return in frame after
+/// frame); a crossing the clear margin (0.3 m) before its return cannot. One such crossing suffices:
+/// the cell was empty then, so anything in it now has arrived since, whichever frame saw it empty. The
+/// last three frames rather than the last one: a cell is often not seen at t−1 (in the shadow of the
+/// mover itself as it walks away from the sensor, or between the fanned beams at the image's edge).
 ///
 /// Guard (Chen 2.4's 8-neighbourhood, over two frames): nothing was returned in the cell's
 /// 8-neighbourhood at t−1 or t−2, nor within `quiet` cells (see [`quiet_radius`]) unless farther from
@@ -28,9 +38,7 @@ pub(crate) fn appeared_in_free_space(
     quiet: usize,
     sensor: (f64, f64),
 ) -> bool {
-    // Seen free at t−1 and t−2: one crossing is not yet free space (a surface edge-on is crossed by
-    // one ray and returned by the next); free space stays free frame after frame.
-    if l.class[i] != CellClass::Free as u8 || l.crossed_in_frames(i, f, 0b110) != 0b110 {
+    if l.class[i] != CellClass::Free as u8 || l.crossed_far_in_frames(i, f, SEEN_FREE) == 0 {
         return false;
     }
     let w = g.width();
@@ -46,6 +54,22 @@ pub(crate) fn appeared_in_free_space(
         let neighbour = (jx - x).abs() <= 1.0 && (jy - y).abs() <= 1.0;
         calm &= !neighbour && range2(jx, jy) > own;
     });
+    calm
+}
+
+/// Something has entered a cell last seen free: its class is Free (the last thing the grid saw there
+/// was a ray going through), and nothing was returned in its 8-neighbourhood at t−1 or t−2, so it is
+/// not a surface returned next to it jittering across a cell boundary (Chen 2.4's neighbourhood). A
+/// static surface cannot do that; a moving obstacle can, and one that came to rest. The moving rule
+/// misses it when the cell was seen free too long ago or too near a ray's return — a suitcase pulled
+/// out of the shadow of the person pulling it enters cells nobody saw for frames. Whether it moves
+/// or rests is the rest test's question (motion seen near it in the same frame).
+pub(crate) fn entered_free_cell(l: &Layers, g: &GridGeometry, i: usize, f: u32) -> bool {
+    if l.class[i] != CellClass::Free as u8 {
+        return false;
+    }
+    let mut calm = true;
+    g.for_3x3(i, |j| calm &= l.hits(j, f) & RECENT == 0);
     calm
 }
 
@@ -164,6 +188,9 @@ fn half_spacing(range: f64, beam_step: f64) -> f64 {
 /// History bits of frames t−2 and t−1.
 const RECENT: u8 = 0b110;
 
+/// History bits of the frames whose visible area counts for the moving rule: t−1, t−2 and t−3.
+const SEEN_FREE: u8 = 0b1110;
+
 /// The cell lies within `moving_step` of a cell that was moving at t−1 (stamped at the start of the
 /// frame from the previous frame's moving cells).
 pub(crate) fn near_previous_motion(l: &Layers, i: usize, f: u32) -> bool {
@@ -194,22 +221,42 @@ mod tests {
 
     #[test]
     fn a_return_in_last_frames_free_space_is_moving() {
-        // Invariant: free at t−1 (crossed, nothing returned around) + return at t ⇒ moving.
+        // Invariant: a cell crossed the clear margin before a return (far) in one of the last frames,
+        // returned now with nothing returned around it before ⇒ moving; crossings nearer their return
+        // than the clear margin, in any number of frames, are not enough (a grazed surface's own cells).
         let (g, mut l) = grid();
         let i = 55;
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 1, Crossing::Far);
         l.record_crossing(i, 2, Crossing::Far);
         l.record_hit(i, 3);
         assert!(appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
         let mut l = Layers::new(g.len());
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 2, Crossing::Far);
+        l.record_crossing(i, 1, Crossing::Free);
+        l.record_crossing(i, 2, Crossing::Free);
         l.record_hit(i, 3);
         assert!(
             !appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR),
-            "one crossing is not free space yet"
+            "seen free only within the clear margin of a return"
         );
+    }
+
+    #[test]
+    fn a_wall_coming_out_from_behind_an_obstacle_is_not_moving() {
+        // Invariant: rays that graze a wall past an occluder's corner cross the wall's own row of cells
+        // a few centimetres before their returns (Free, never Far) frame after frame; the wall's first
+        // return in such a cell, nearer the sensor than its returns so far and two cells from them, is
+        // not moving.
+        let (g, mut l) = grid();
+        let i = 52; // row 5, column 2; the sensor far to the left along the row
+        l.class[i] = CellClass::Free as u8;
+        for f in 1..=3 {
+            l.record_crossing(i, f, Crossing::Free);
+            l.record_hit(i + 2, f);
+            l.record_hit(i + 3, f);
+        }
+        l.record_hit(i, 4);
+        assert!(!appeared_in_free_space(&l, &g, i, 4, 1, (-100.0, 5.5)));
     }
 
     #[test]
@@ -218,8 +265,8 @@ mod tests {
         let (g, mut l) = grid();
         let i = 55;
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 1, Crossing::Free);
-        l.record_crossing(i, 2, Crossing::Free);
+        l.record_crossing(i, 1, Crossing::Far);
+        l.record_crossing(i, 2, Crossing::Far);
         l.record_hit(i + 11, 2);
         l.record_hit(i, 3);
         assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
@@ -249,18 +296,24 @@ mod tests {
     }
 
     #[test]
-    fn free_space_seen_only_long_ago_is_not_last_frames_visible_area() {
-        // Invariant: only V_{t−1} counts; a cell crossed at t−2 but not t−1 is not moving.
+    fn free_space_seen_more_than_three_frames_ago_does_not_count() {
+        // Invariant: a far crossing at t−3 (the cell unseen at t−2 and t−1: in the mover's own shadow,
+        // between fanned beams) makes a return at t moving; one at t−4 does not; nor does a cell that
+        // is not Free (unknown).
         let (g, mut l) = grid();
         let i = 55;
         l.class[i] = CellClass::Free as u8;
-        l.record_crossing(i, 1, Crossing::Far);
-        l.record_hit(i, 3);
-        assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
-        // And a cell that was never free (unknown) is not moving either.
-        l.class[i] = CellClass::Unknown as u8;
         l.record_crossing(i, 2, Crossing::Far);
-        assert!(!appeared_in_free_space(&l, &g, i, 3, 1, FAR_SENSOR));
+        l.record_hit(i, 5);
+        assert!(appeared_in_free_space(&l, &g, i, 5, 1, FAR_SENSOR));
+        let mut l = Layers::new(g.len());
+        l.class[i] = CellClass::Free as u8;
+        l.record_crossing(i, 1, Crossing::Far);
+        l.record_hit(i, 5);
+        assert!(!appeared_in_free_space(&l, &g, i, 5, 1, FAR_SENSOR));
+        l.class[i] = CellClass::Unknown as u8;
+        l.record_crossing(i, 4, Crossing::Far);
+        assert!(!appeared_in_free_space(&l, &g, i, 5, 1, FAR_SENSOR));
     }
 
     #[test]
@@ -287,6 +340,27 @@ mod tests {
         // lies behind the cell, as for something coming towards the sensor) it does not.
         assert!(!appeared_in_free_space(&l, &g, i, 3, quiet, (20.0, 5.5)));
         assert!(appeared_in_free_space(&l, &g, i, 3, quiet, (-10.0, 5.5)));
+    }
+
+    #[test]
+    fn a_return_in_a_cell_last_seen_free_with_no_surface_beside_it_has_entered() {
+        // Invariant: entered iff the cell is Free and nothing was returned in its 3×3 block at t−1 or
+        // t−2 (a return there three frames ago does not count); a cell not Free has not been entered.
+        let (g, mut l) = grid();
+        let i = 55;
+        l.class[i] = CellClass::Free as u8;
+        l.record_hit(i + 1, 2);
+        l.record_hit(i, 5);
+        assert!(entered_free_cell(&l, &g, i, 5));
+        l.record_hit(i - 11, 3);
+        assert!(
+            !entered_free_cell(&l, &g, i, 5),
+            "a return beside it at t−2"
+        );
+        let (g, mut l) = grid();
+        l.class[i] = CellClass::Unknown as u8;
+        l.record_hit(i, 5);
+        assert!(!entered_free_cell(&l, &g, i, 5));
     }
 
     #[test]
