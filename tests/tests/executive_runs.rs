@@ -3,11 +3,12 @@
 
 use nalgebra::{Isometry3, Point2, Point3, Vector2, Vector3};
 use nudge_executive::record::{NullObserver, Observer, RobotFrames};
+use nudge_executive::runner::GridSetup;
 use nudge_executive::{
     CandidatePolicy, Edge, ExecutiveConfig, Purpose, PushIntent, RunReport, State, Verdict,
 };
-use nudge_perception::ObjectId;
 use nudge_perception::grid::{CellClass, CellIndex, Evidence};
+use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::truth::{Movability, Truth};
@@ -273,11 +274,13 @@ fn a_person_standing_in_the_only_doorway_is_waited_for_not_given_up_on() {
 }
 
 /// Records what a run in the cart scenario needs checked: the base track, every state entered after
-/// each edge, and the peak force of every clearing push.
+/// each edge (with its stamp), the stamps of the clouds taken, and the peak force of every clearing
+/// push.
 #[derive(Default)]
 struct Clearing {
     track: Vec<(f64, Point2<f64>)>,
-    steps: Vec<(Edge, State)>,
+    steps: Vec<(f64, Edge, State)>,
+    clouds: Vec<f64>,
     clear_forces: Vec<(ObjectId, f64)>,
 }
 
@@ -287,8 +290,12 @@ impl Observer for Clearing {
             .push((stamp, Point2::from(frames.base.translation.vector)));
     }
 
-    fn transition(&mut self, _stamp: f64, _from: Option<&State>, edge: Edge, to: &State) {
-        self.steps.push((edge, to.clone()));
+    fn transition(&mut self, stamp: f64, _from: Option<&State>, edge: Edge, to: &State) {
+        self.steps.push((stamp, edge, to.clone()));
+    }
+
+    fn cloud(&mut self, cloud: &ColourCloud) {
+        self.clouds.push(cloud.stamp());
     }
 
     fn push(&mut self, _stamp: f64, intent: &PushIntent, force: Option<Vector2<f64>>) {
@@ -310,8 +317,8 @@ fn a_cart_seen_left_in_the_doorway_is_cleared_without_a_push_test() {
         Clearing::default(),
     )
     .expect("world builds");
-    for (edge, to) in &seen.steps {
-        println!("  {edge:?} -> {}", to.name());
+    for (stamp, edge, to) in &seen.steps {
+        println!("  {stamp:7.2} s  {edge:?} -> {}", to.name());
     }
     assert_eq!(report.outcome, State::Goal);
     assert_eq!(report.knowledge.push_tests, 0, "no push test at all");
@@ -319,15 +326,29 @@ fn a_cart_seen_left_in_the_doorway_is_cleared_without_a_push_test() {
         !seen
             .steps
             .iter()
-            .any(|(_, s)| matches!(s, State::PushTest { .. })),
+            .any(|(_, _, s)| matches!(s, State::PushTest { .. })),
         "no PushTest state"
     );
     // The robot waited for the cart first (it was seen moving), then cleared it without a test.
-    let edges: Vec<Edge> = seen.steps.iter().map(|(e, _)| *e).collect();
-    assert!(
-        edges.contains(&Edge::PathInvalidated),
-        "the grid stopped the walk"
+    let edges: Vec<Edge> = seen.steps.iter().map(|(_, e, _)| *e).collect();
+    let flagged = seen
+        .steps
+        .iter()
+        .find(|(_, e, _)| *e == Edge::PathInvalidated)
+        .map(|(t, _, _)| *t)
+        .expect("the grid stopped the walk");
+    // Standing, it watched ahead at the settle rate before looking around (which takes 15 views).
+    let setup = GridSetup::default();
+    let watched = seen
+        .clouds
+        .iter()
+        .filter(|t| **t > flagged && **t <= flagged + setup.settle_time + 1e-6)
+        .count();
+    println!(
+        "{watched} frames in the {} s after the flag at {flagged:.2} s",
+        setup.settle_time
     );
+    assert!(watched as f64 >= 0.9 * setup.settle_time / setup.settle_period);
     assert!(
         edges.contains(&Edge::WaitForMover),
         "the robot looked again first"
@@ -335,7 +356,7 @@ fn a_cart_seen_left_in_the_doorway_is_cleared_without_a_push_test() {
     let cleared: Vec<ObjectId> = seen
         .steps
         .iter()
-        .filter_map(|(e, s)| match (e, s) {
+        .filter_map(|(_, e, s)| match (e, s) {
             (
                 Edge::KnownMovable,
                 State::ApproachPushPose {
