@@ -19,6 +19,9 @@ pub enum Command {
     FollowPath,
     /// Stop the walk under way.
     StopWalk,
+    /// Stand and keep watching ahead for a moment, frames into the grid: what flagged the path is
+    /// seen walking on, coming to rest, or standing, before the look-around.
+    WatchAhead,
     /// Rank push candidates among the obstacles by `policy`, leaving out `exclude`.
     RankCandidates {
         /// The ranking policy.

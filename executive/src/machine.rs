@@ -235,7 +235,7 @@ pub fn transition(
             k,
             config,
             State::LookAround,
-            vec![Command::StopWalk, Command::LookAround],
+            vec![Command::StopWalk, Command::WatchAhead, Command::LookAround],
             Edge::PathInvalidated,
         ),
         (State::Navigate, Event::WalkBlocked) => replan(

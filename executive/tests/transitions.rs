@@ -143,9 +143,9 @@ cases! {
         s.edge
     }
     an_invalidated_path_stops_and_looks_again => {
-        // Invariant: the grid's replanning flag stops the walk, looks again before replanning, and counts the replan.
+        // Invariant: the grid's replanning flag stops the walk, watches ahead a moment (frames close in time, so the grid sees what flagged the path walk on or come to rest), looks again before replanning, and counts the replan.
         let s = run(State::Navigate, &Knowledge::default(), Event::PathInvalidated { reason: "moving cell".into() });
-        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::StopWalk, Command::LookAround]));
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::StopWalk, Command::WatchAhead, Command::LookAround]));
         assert_eq!(s.knowledge.replans, 1);
         s.edge
     }

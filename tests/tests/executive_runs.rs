@@ -1,13 +1,17 @@
 //! End to end in the simulation: the executive against the paper's room and its variants, scored
 //! against ground truth.
 
-use nalgebra::{Isometry3, Point2, Point3, Vector3};
+use nalgebra::{Isometry3, Point2, Point3, Vector2, Vector3};
 use nudge_executive::record::{NullObserver, Observer, RobotFrames};
-use nudge_executive::{CandidatePolicy, Edge, RunReport, State, Verdict};
+use nudge_executive::runner::GridSetup;
+use nudge_executive::{
+    CandidatePolicy, Edge, ExecutiveConfig, Purpose, PushIntent, RunReport, State, Verdict,
+};
 use nudge_perception::grid::{CellClass, CellIndex, Evidence};
+use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
-use nudge_sim::truth::Truth;
+use nudge_sim::truth::{Movability, Truth};
 use nudge_tests::truth::{Scored, score};
 
 fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
@@ -267,6 +271,206 @@ fn a_person_standing_in_the_only_doorway_is_waited_for_not_given_up_on() {
     assert_eq!(report.outcome, State::Goal);
     assert_eq!(report.knowledge.push_tests, 0);
     assert!(edges.contains(&Edge::WaitForMover), "the robot waited");
+}
+
+/// Records what a run in the cart scenario needs checked: the base track, every state entered after
+/// each edge (with its stamp), the stamps of the clouds taken, and the peak force of every clearing
+/// push.
+#[derive(Default)]
+struct Clearing {
+    track: Vec<(f64, Point2<f64>)>,
+    steps: Vec<(f64, Edge, State)>,
+    clouds: Vec<f64>,
+    clear_forces: Vec<(ObjectId, f64)>,
+}
+
+impl Observer for Clearing {
+    fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
+        self.track
+            .push((stamp, Point2::from(frames.base.translation.vector)));
+    }
+
+    fn transition(&mut self, stamp: f64, _from: Option<&State>, edge: Edge, to: &State) {
+        self.steps.push((stamp, edge, to.clone()));
+    }
+
+    fn cloud(&mut self, cloud: &ColourCloud) {
+        self.clouds.push(cloud.stamp());
+    }
+
+    fn push(&mut self, _stamp: f64, intent: &PushIntent, force: Option<Vector2<f64>>) {
+        // The plan is reported without a force, the push test and the clearing push with their peak.
+        if let Some(f) = force {
+            self.clear_forces.push((intent.target, f.norm()));
+        }
+    }
+}
+
+#[test]
+fn a_cart_seen_left_in_the_doorway_is_cleared_without_a_push_test() {
+    // Invariant: an object the grid saw being pulled into the only doorway and left there is movable on passive evidence alone: after its waits the robot pushes it out of the way as KnownMovable with no push test on it, the cart (truly pushable under 20 N) moves, the clearing push stays under its limit, nobody is touched, and the robot ends at the goal.
+    let scenario = nudge_tests::scenario("cart-left-in-doorway").expect("scenario loads");
+    let (report, robot, seen) = nudge_sim::run::run(
+        &scenario,
+        scenario.seed,
+        CandidatePolicy::Nearest,
+        Clearing::default(),
+    )
+    .expect("world builds");
+    for (stamp, edge, to) in &seen.steps {
+        println!("  {stamp:7.2} s  {edge:?} -> {}", to.name());
+    }
+    assert_eq!(report.outcome, State::Goal);
+    assert_eq!(report.knowledge.push_tests, 0, "no push test at all");
+    assert!(
+        !seen
+            .steps
+            .iter()
+            .any(|(_, _, s)| matches!(s, State::PushTest { .. })),
+        "no PushTest state"
+    );
+    // The robot waited for the cart first (it was seen moving), then cleared it without a test.
+    let edges: Vec<Edge> = seen.steps.iter().map(|(_, e, _)| *e).collect();
+    let flagged = seen
+        .steps
+        .iter()
+        .find(|(_, e, _)| *e == Edge::PathInvalidated)
+        .map(|(t, _, _)| *t)
+        .expect("the grid stopped the walk");
+    // Standing, it watched ahead at the settle rate before looking around (which takes 15 views).
+    let setup = GridSetup::default();
+    let watched = seen
+        .clouds
+        .iter()
+        .filter(|t| **t > flagged && **t <= flagged + setup.settle_time + 1e-6)
+        .count();
+    println!(
+        "{watched} frames in the {} s after the flag at {flagged:.2} s",
+        setup.settle_time
+    );
+    assert!(watched as f64 >= 0.9 * setup.settle_time / setup.settle_period);
+    assert!(
+        edges.contains(&Edge::WaitForMover),
+        "the robot looked again first"
+    );
+    let cleared: Vec<ObjectId> = seen
+        .steps
+        .iter()
+        .filter_map(|(_, e, s)| match (e, s) {
+            (
+                Edge::KnownMovable,
+                State::ApproachPushPose {
+                    target,
+                    purpose: Purpose::Clear,
+                    ..
+                },
+            ) => Some(*target),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(cleared.len(), 1, "one KnownMovable clearing: {cleared:?}");
+    let cart_id = cleared[0];
+
+    // Ground truth: the object cleared is the cart, it is truly pushable, and the push moved it out of
+    // the doorway's approach, from where the person left it (3.0, 1.8) (see the scenario's header).
+    let truth = Truth::new(robot.world());
+    let cart = robot
+        .world()
+        .objects()
+        .iter()
+        .position(|(o, _)| o.name == "cart")
+        .expect("the scenario has a cart");
+    assert_eq!(truth.movability(cart), Some(Movability::Movable));
+    let now = truth.object_pose(cart).expect("cart has a pose");
+    let now = Point2::new(now.translation.x, now.translation.y);
+    let moved = (now - Point2::new(3.0, 1.8)).norm();
+    println!(
+        "the cart rests at ({:.2}, {:.2}), {moved:.2} m from where it was left",
+        now.x, now.y
+    );
+    assert!(moved >= 0.3, "the cart moved only {moved:.2} m");
+    let prism = report
+        .obstacles
+        .iter()
+        .find(|p| p.id == cart_id)
+        .expect("the cleared obstacle is still known");
+    assert!(
+        prism.contains_xy(&now),
+        "the obstacle cleared, {cart_id}, is where the cart truly is"
+    );
+
+    // The clearing push is the grid's first active evidence on the cart (push test 0: none): where
+    // the cart now stands is Movable by it.
+    let grid = report.grid.as_ref().expect("the run keeps a grid");
+    let marked = grid
+        .object_cells(cart_id)
+        .iter()
+        .filter(|c| {
+            grid.cell(**c).is_some_and(|i| {
+                i.class == CellClass::Movable
+                    && i.evidence
+                        == Evidence::Active {
+                            object: cart_id,
+                            push_test: 0,
+                        }
+            })
+        })
+        .count();
+    println!("{marked} cells hold the cart as moved by the clearing push");
+    assert!(marked > 0);
+    assert!(
+        grid.class_at(now) == Some(CellClass::Movable),
+        "the cart's true centre lies in a Movable cell"
+    );
+
+    // The clearing push stayed under its limit (it never jammed); nothing was pushed but the cart.
+    let limit = ExecutiveConfig::default().clear_force_limit;
+    assert!(!seen.clear_forces.is_empty());
+    for (id, peak) in &seen.clear_forces {
+        println!("clearing push on {id}: peak {peak:.1} N");
+        assert_eq!(*id, cart_id);
+        assert!(*peak <= limit, "{peak:.1} N over the {limit} N limit");
+    }
+    assert!(!edges.contains(&Edge::Jammed));
+
+    // Nobody was touched, and the robot truly stands at the goal.
+    let person = &scenario.actors[0];
+    let plan = Plan::new(person).expect("valid actor");
+    let closest = seen
+        .track
+        .iter()
+        .map(|(t, p)| (plan.state_at(*t).position - p).norm())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        closest >= scenario.robot.radius + person.radius,
+        "{closest:.2} m"
+    );
+    let base = robot.world().humanoid().base_pose();
+    let goal = Point2::new(scenario.goal.position[0], scenario.goal.position[1]);
+    let off = (Point2::from(base.translation.vector) - goal).norm();
+    assert!(
+        off <= scenario.goal.tolerance + 0.05,
+        "{off:.2} m from the goal"
+    );
+}
+
+#[test]
+fn the_cart_run_is_the_same_on_repeat() {
+    // Invariant: two runs of the cart scenario with its seed are identical: timeline, knowledge, obstacles and grid (the settle frames and the grid's passive verdicts included).
+    let scenario = nudge_tests::scenario("cart-left-in-doorway").expect("scenario loads");
+    let once = || {
+        nudge_tests::run(
+            &scenario,
+            scenario.seed,
+            CandidatePolicy::Nearest,
+            NullObserver,
+        )
+        .expect("world builds")
+        .0
+    };
+    let (a, b) = (once(), once());
+    assert!(a.grid.is_some());
+    assert_eq!(a, b);
 }
 
 #[test]

@@ -59,6 +59,14 @@ pub struct GridSetup {
     /// Robot time between frames taken while walking a path (s). Default 1 s: a person at walking
     /// speed moves 1–1.5 m in that time, within the camera's view ahead.
     pub watch_period: f64,
+    /// How long the robot stands and watches ahead after the grid flagged its path, before it looks
+    /// around (s). Default 3 s: a person leaving something on the way and walking on is seen doing it,
+    /// and what is left rests in view for Tamura's three frames and more.
+    pub settle_time: f64,
+    /// Robot time between frames while it watches (s). Default 0.1 s, near the camera's frame rate:
+    /// a person walking at 1 m/s moves less than the moving rule's step (0.15 m) between two frames,
+    /// so the grid follows them and sees what they leave behind come to rest.
+    pub settle_period: f64,
     /// Head tilt while walking (rad, down positive). Default 20°: the floor is in view from about
     /// 1.8 m out to the range limit, so anything stepping onto the path ahead is seen.
     pub watch_tilt: f64,
@@ -85,6 +93,8 @@ impl Default for GridSetup {
             rules: GridConfig::default(),
             reduction: ColumnReduction::default(),
             watch_period: 1.0,
+            settle_time: 3.0,
+            settle_period: 0.1,
             watch_tilt: 20f64.to_radians(),
             passive_share: 0.3,
             max_tilt: 22f64.to_radians(),

@@ -58,9 +58,11 @@ pub(crate) fn moving_obstacles(
             .cell(cell)
             .is_some_and(|c| matches!(c.evidence, Evidence::Active { .. }));
         let centre = geometry.centre(cell);
+        // A hull's edge runs a few centimetres from the cell centres of the face it was made from: a
+        // cell the footprint overlaps at all is the obstacle's own.
         if explained_by_push
             || (centre - robot).norm() < keep_clear
-            || prisms.iter().any(|p| p.contains_xy(&centre))
+            || prisms.iter().any(|p| overlaps_cell(p, centre, half))
         {
             continue;
         }
@@ -105,25 +107,69 @@ fn footprint_box(
     Some((a.y..=b.y).flat_map(move |y| (a.x..=b.x).map(move |x| CellIndex::new(x, y))))
 }
 
-/// Share of the cells under `prism`'s footprint that the passive rules call Movable.
+/// Whether the square cell of side `2 half` around `centre` overlaps `prism`'s convex footprint
+/// (separating axes: the square's two and the footprint's edge normals).
+fn overlaps_cell(prism: &Prism, centre: Point2<f64>, half: f64) -> bool {
+    let f = &prism.footprint;
+    if f.len() < 3 {
+        return false;
+    }
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .map(|(sx, sy)| Point2::new(centre.x + sx * half, centre.y + sy * half));
+    let separated = |axis: Vector2<f64>| {
+        let span = |pts: &mut dyn Iterator<Item = &Point2<f64>>| {
+            pts.map(|p| axis.dot(&p.coords))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                })
+        };
+        let (a, b) = (span(&mut corners.iter()), span(&mut f.iter()));
+        a.1 < b.0 || b.1 < a.0
+    };
+    let edges = (0..f.len()).map(|i| {
+        (f[(i + 1) % f.len()] - f[i])
+            .yx()
+            .component_mul(&Vector2::new(1.0, -1.0))
+    });
+    let mut axes = [Vector2::x(), Vector2::y()].into_iter().chain(edges);
+    !axes.any(separated)
+}
+
+/// The share of the obstacle cells the grid holds under `prism`'s footprint (the cells it overlaps) that
+/// the passive rules call Movable. Only obstacle cells count: a range sensor returns from the faces
+/// turned to it, so the inside of an object stays unknown however movable its faces are.
 pub(crate) fn passive_movable_share(grid: &ObstacleGrid, prism: &Prism) -> f64 {
     let geometry = grid.geometry();
-    let Some(cells) = footprint_box(geometry, prism, 0.0) else {
+    let half = geometry.resolution() / 2.0;
+    let Some(cells) = footprint_box(geometry, prism, 1.0) else {
         return 0.0;
     };
-    let (mut inside, mut movable) = (0usize, 0usize);
-    for cell in cells.filter(|c| prism.contains_xy(&geometry.centre(*c))) {
-        inside += 1;
-        if grid.cell(cell).is_some_and(|c| {
-            c.class == CellClass::Movable && matches!(c.evidence, Evidence::Passive(_))
-        }) {
-            movable += 1;
-        }
-    }
-    if inside == 0 {
+    movable_share(
+        cells
+            .filter(|c| overlaps_cell(prism, geometry.centre(*c), half))
+            .filter_map(|c| grid.cell(c))
+            .map(|c| (c.class, matches!(c.evidence, Evidence::Passive(_)))),
+    )
+}
+
+/// Of cells given as (class, passive evidence), the share of the obstacle cells that are Movable by
+/// passive evidence; 0 when none is an obstacle.
+fn movable_share(cells: impl Iterator<Item = (CellClass, bool)>) -> f64 {
+    obstacle_share(cells.map(|(class, passive)| (class, class == CellClass::Movable && passive)))
+}
+
+/// Of cells given as (class, whether it counts), the share of the obstacle cells that count; 0 when
+/// none is an obstacle.
+fn obstacle_share(cells: impl Iterator<Item = (CellClass, bool)>) -> f64 {
+    let (obstacles, counted) = cells
+        .filter(|(class, _)| class.is_obstacle())
+        .fold((0usize, 0usize), |(n, m), (_, counts)| {
+            (n + 1, m + usize::from(counts))
+        });
+    if obstacles == 0 {
         0.0
     } else {
-        movable as f64 / inside as f64
+        counted as f64 / obstacles as f64
     }
 }
 
@@ -260,10 +306,27 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         else {
             return;
         };
-        if grid.verdict(id).is_none() {
-            return;
-        }
         let stamp = self.robot.now();
+        if grid.verdict(id).is_none() {
+            // Known movable from passive evidence alone and cleared without a test: the push is the
+            // first active evidence, under push test 0 (none). Without it the faces the passive rules
+            // marked would stay where the object no longer stands.
+            let marked = grid.mark_object(
+                id,
+                Footprint::Polygon(&before.footprint),
+                GridVerdict::Movable,
+                0,
+                stamp,
+            );
+            if let Err(e) = marked {
+                self.observer.note(
+                    stamp,
+                    LogLevel::Warning,
+                    &format!("{id}'s push was not written into the grid: {e}"),
+                );
+                return;
+            }
+        }
         let moved = grid.object_moved(
             id,
             Footprint::Polygon(&before.footprint),
@@ -314,5 +377,69 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .grid
             .as_ref()
             .is_some_and(|g| passive_movable_share(g, prism) >= self.config.grid.passive_share)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
+        Prism {
+            id: ObjectId(9),
+            footprint: vec![
+                Point2::new(x0, y0),
+                Point2::new(x1, y0),
+                Point2::new(x1, y1),
+                Point2::new(x0, y1),
+            ],
+            z_min: 0.0,
+            z_max: 1.0,
+            points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
+        }
+    }
+
+    #[test]
+    fn a_cell_the_footprint_only_grazes_still_overlaps_it() {
+        // Invariant: a 5 cm cell overlaps a footprint when any part of it does, even with its centre 1 cm outside (a face's cell next to the hull made from it); a cell wholly outside, or only diagonally near a corner, does not.
+        let cart = square(2.73, 1.54, 3.28, 2.06);
+        let half = 0.025;
+        assert!(overlaps_cell(&cart, Point2::new(2.725, 1.8), half));
+        assert!(overlaps_cell(&cart, Point2::new(3.0, 1.525), half));
+        assert!(overlaps_cell(&cart, Point2::new(3.0, 1.8), half));
+        assert!(!overlaps_cell(&cart, Point2::new(2.675, 1.8), half));
+        assert!(!overlaps_cell(&cart, Point2::new(3.0, 2.1), half));
+        // A diamond: the square next to its left corner touches its bounding box, not the diamond.
+        let diamond = Prism {
+            footprint: vec![
+                Point2::new(0.0, 0.0),
+                Point2::new(1.0, -1.0),
+                Point2::new(2.0, 0.0),
+                Point2::new(1.0, 1.0),
+            ],
+            ..cart
+        };
+        assert!(!overlaps_cell(&diamond, Point2::new(0.3, 0.9), 0.1));
+        assert!(overlaps_cell(&diamond, Point2::new(0.3, 0.2), 0.1));
+    }
+
+    #[test]
+    fn the_movable_share_counts_only_cells_the_grid_holds_as_obstacles() {
+        // Invariant: the passive movable share is taken over obstacle cells only (a range sensor never sees inside an object, so unknown and free cells do not dilute it); active Movable cells do not count as passive; no obstacle cell gives 0.
+        use CellClass::*;
+        // A box seen from two sides: its faces movable by passive evidence, its inside unknown.
+        let mut cells = vec![(Movable, true); 20];
+        cells.extend(vec![(Unknown, false); 80]);
+        assert!((movable_share(cells.iter().copied()) - 1.0).abs() < 1e-12);
+        // A wall with two jittering cells.
+        let mut wall = vec![(Stationary, true); 18];
+        wall.extend([(Movable, true), (Movable, true), (Free, false)]);
+        assert!((movable_share(wall.into_iter()) - 0.1).abs() < 1e-12);
+        // A pushed chair: Movable by a push test, not by passive evidence.
+        assert_eq!(movable_share(vec![(Movable, false); 10].into_iter()), 0.0);
+        assert_eq!(
+            movable_share(vec![(Unknown, false), (Free, false)].into_iter()),
+            0.0
+        );
     }
 }

@@ -182,6 +182,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .stop_walk()
                 .err()
                 .map(|e| Interrupt::Robot(e).into()),
+            Command::WatchAhead => self.watch_ahead().err().map(Into::into),
             Command::RankCandidates { policy, exclude } => Some(self.rank(*policy, exclude)),
             Command::PlanPush { target, .. } => Some(self.plan_push(*target)),
             Command::WalkToPushPose(intent) => Some(self.walk_to_push_pose(intent)),

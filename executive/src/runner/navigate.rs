@@ -171,6 +171,34 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
+    /// Stands for [`GridSetup::settle_time`](super::config::GridSetup::settle_time), taking a frame
+    /// into the grid every [`GridSetup::settle_period`](super::config::GridSetup::settle_period) with
+    /// the head where the walk left it. The passive rules tell a thing that walks on from one left
+    /// behind (movable by addition) or one that stands only from the same place in frames close in
+    /// time; a look-around's panning views never give them that.
+    pub(crate) fn watch_ahead(&mut self) -> Result<(), Interrupt> {
+        let (period, until) = (
+            self.config.grid.settle_period,
+            self.robot.now() + self.config.grid.settle_time,
+        );
+        // A zero, negative or NaN period takes no frames (and must not loop for ever).
+        if period.is_nan() || period <= 0.0 {
+            return Ok(());
+        }
+        let mut next = self.robot.now() + period;
+        while next <= until {
+            while self.robot.now() < next {
+                self.tick()?;
+            }
+            next += period;
+            let cloud = self.robot.capture()?;
+            self.observer.cloud(&cloud);
+            self.sense(&cloud, true);
+        }
+        self.publish_grid();
+        Ok(())
+    }
+
     /// Starts a walk through `waypoints` (the first is where the robot stands) and waits for its end.
     fn walk(&mut self, waypoints: &[Point2<f64>]) -> Result<WalkOutcome, Interrupt> {
         let rest = waypoints.get(1..).unwrap_or_default();

@@ -140,8 +140,10 @@ impl WorldModel {
 
     /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a
     /// new obstacle overlapping an old one grows to cover it unless the new look saw floor where the old
-    /// part stood (one object seen in parts), and an old obstacle no new one overlaps is kept unless the
-    /// new look saw floor inside it (it was moved away).
+    /// part stood (one object seen in parts), and an old obstacle no new one absorbed this way is kept
+    /// unless the new look saw floor inside it (it was moved away). An old obstacle that only touches
+    /// what a new one grew over (the end of a wall beside its base, seen again) is judged on its own
+    /// floor, not dropped for touching it.
     ///
     /// An obstacle a push test found static stays whole, whatever floor shows: it does not move, and
     /// floor seen between a table's legs must not shrink the table to the part of its top in view. A
@@ -171,6 +173,7 @@ impl WorldModel {
         let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
         let settled = |p: &Prism| self.settled.contains(&p.id);
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
+        let mut absorbed = Vec::new();
         for new in detected {
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
@@ -178,13 +181,16 @@ impl WorldModel {
                     merged = old.merged_with(&merged);
                 } else if !seen_floor(old, Some(&new)) {
                     merged = merged.merged_with(old);
+                } else {
+                    // Two obstacles side by side: the old one stays or goes on its own.
+                    continue;
                 }
+                absorbed.push(old.id);
             }
             current.push(merged);
         }
         for old in &self.prisms {
-            if !current.iter().any(|c| overlaps(c, old)) && (settled(old) || !seen_floor(old, None))
-            {
+            if !absorbed.contains(&old.id) && (settled(old) || !seen_floor(old, None)) {
                 current.push(old.clone());
             }
         }
@@ -317,5 +323,45 @@ mod tests {
         assert_eq!(untested.prisms.len(), 1);
         assert_eq!(untested.prisms[0].id, ObjectId(22));
         assert!(!untested.prisms[0].contains_xy(&Point2::new(3.3, 2.3)));
+    }
+
+    #[test]
+    fn an_obstacle_touching_one_that_grew_is_kept_when_no_floor_shows_inside_it() {
+        // Invariant: an old obstacle no new detection absorbed is kept unless floor shows inside it, even where it touches another old obstacle that a new detection grew over (the end of a wall beside the wall's base); floor inside it still makes it go.
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let robot = Point2::new(2.95, 1.4);
+        let wall_end = prism(3, 3.47, 0.6, 3.53, 1.3);
+        let wall_base = prism(2, 3.04, 0.0, 3.53, 0.68);
+        let seen_again = prism(40, 3.0, 0.0, 3.5, 0.5);
+        let no_floor = floor(1.0, 2.5, 1.2, 2.7);
+        let mut world = WorldModel {
+            prisms: vec![wall_base.clone(), wall_end.clone()],
+            ..WorldModel::default()
+        };
+        world.remember(vec![seen_again.clone()], &no_floor, &robot, &config);
+        assert_eq!(world.prisms.len(), 2, "{:?}", world.prisms);
+        assert!(world.prisms.contains(&wall_end));
+        assert!(
+            world
+                .prisms
+                .iter()
+                .any(|p| p.id == ObjectId(40) && p.contains_xy(&Point2::new(3.5, 0.65)))
+        );
+        // Floor seen all over where the wall's end was: it goes.
+        let mut moved = WorldModel {
+            prisms: vec![wall_base, wall_end],
+            ..WorldModel::default()
+        };
+        moved.remember(
+            vec![seen_again],
+            &floor(3.47, 0.7, 3.53, 1.3),
+            &robot,
+            &config,
+        );
+        assert_eq!(moved.prisms.len(), 1, "{:?}", moved.prisms);
     }
 }
