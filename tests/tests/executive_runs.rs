@@ -24,15 +24,7 @@ fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
         report.outcome.name(),
         report.robot_time
     );
-    for t in &report.timeline {
-        println!(
-            "  {:7.2} s  {} -> {} ({:?})",
-            t.stamp,
-            t.from.unwrap_or("(start)"),
-            t.to,
-            t.edge
-        );
-    }
+    print_timeline(&report);
     for s in &scored {
         println!(
             "  {} = {:?}: {:?} ({})",
@@ -43,6 +35,19 @@ fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
         );
     }
     (report, scored)
+}
+
+/// Prints a run's timeline, one transition a line with its robot-time stamp.
+fn print_timeline(report: &RunReport) {
+    for t in &report.timeline {
+        println!(
+            "  {:7.2} s  {} -> {} ({:?})",
+            t.stamp,
+            t.from.unwrap_or("(start)"),
+            t.to,
+            t.edge
+        );
+    }
 }
 
 fn assert_all_correct(scored: &[Scored]) {
@@ -224,15 +229,7 @@ fn person_run(name: &str) -> (RunReport, Vec<Edge>) {
         Track::default(),
     )
     .expect("world builds");
-    for t in &report.timeline {
-        println!(
-            "  {:7.2} s  {} -> {} ({:?})",
-            t.stamp,
-            t.from.unwrap_or("(start)"),
-            t.to,
-            t.edge
-        );
-    }
+    print_timeline(&report);
     let person = &scenario.actors[0];
     let plan = Plan::new(person).expect("valid actor");
     let closest = track
