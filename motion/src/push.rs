@@ -82,7 +82,7 @@ impl Default for PushConfig {
             face_band: 0.05,
             min_face: 0.1,
             sweep_clearance: 0.05,
-            distance_margin: 0.1,
+            distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
             planner: RrtConnect::default(),
             budget: Budget::iterations(5_000),
@@ -400,9 +400,13 @@ fn push_of(
 ) -> Result<Option<Candidate>, PushError> {
     let offset = stance.direction.into_inner() * distance;
     let swept = object.swept(&offset).map_err(ValidityError::from)?;
-    let into_other = others
-        .iter()
-        .any(|o| o.distance_to_obstacle(&swept) <= config.sweep_clearance);
+    let into_other = others.iter().any(|o| {
+        !sweep_keeps_clear(
+            o.distance_to_obstacle(object),
+            o.distance_to_obstacle(&swept),
+            config.sweep_clearance,
+        )
+    });
     let walls = validity.walls();
     let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
     let end = stance.stand + offset;
@@ -417,6 +421,14 @@ fn push_of(
         displaced: object.footprint().iter().map(|p| p + offset).collect(),
         path_after,
     }))
+}
+
+/// Whether a sweep whose footprint lies `swept_gap` (m) from an obstacle, starting `start_gap` from it,
+/// keeps clear of it: it never touches it, and keeps `clearance`, or, from an obstacle the object
+/// already stands closer to, the gap it starts with (the sweep holds the start footprint, so that is
+/// the most it can keep: the object may move away, not closer).
+fn sweep_keeps_clear(start_gap: f64, swept_gap: f64, clearance: f64) -> bool {
+    swept_gap > 0.0 && swept_gap >= clearance.min(start_gap - 1e-6)
 }
 
 fn plan(
@@ -473,6 +485,17 @@ mod tests {
         };
         let obstacle = Obstacle::new(ObjectId(1), &footprint, 0.0, 0.85).expect("square");
         (prism, obstacle)
+    }
+
+    #[test]
+    fn a_sweep_keeps_the_clearance_or_the_gap_it_starts_with() {
+        // Invariant: a push may not graze another obstacle (closer than the clearance) unless the object already starts closer, in which case it may only keep its starting gap (move away or alongside), never come closer or touch.
+        assert!(sweep_keeps_clear(0.3, 0.2, 0.05));
+        assert!(!sweep_keeps_clear(0.3, 0.01, 0.05));
+        assert!(!sweep_keeps_clear(0.3, 0.0, 0.05));
+        assert!(sweep_keeps_clear(0.02, 0.02, 0.05));
+        assert!(!sweep_keeps_clear(0.02, 0.01, 0.05));
+        assert!(!sweep_keeps_clear(0.0, 0.0, 0.05));
     }
 
     #[test]

@@ -32,6 +32,9 @@ pub(crate) struct WorldModel {
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
     /// Obstacles a push test found static: they stay where they were measured (see [`Self::remember`]).
     pub settled: BTreeSet<ObjectId>,
+    /// Obstacles moved by a confirmed push since they were last seen: their footprints are predictions
+    /// (the object may have turned as it slid), which the next sight of them replaces.
+    pub pushed: BTreeSet<ObjectId>,
     /// Per grid cell, the robot-clock stamp of the last look or walk frame that left it Moving (NaN:
     /// never). Frames of the robot's own pushes do not count: that motion is its own doing.
     pub last_motion: Vec<f64>,
@@ -203,7 +206,9 @@ impl WorldModel {
         for new in detected {
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
-                if settled(old) {
+                if self.pushed.contains(&old.id) && !settled(old) {
+                    // A pushed object seen again: where it is now is what the look shows.
+                } else if settled(old) {
                     merged = old.merged_with(&merged);
                 } else if !seen_floor(old, Some(&new)) && !floor_between(&merged, old) {
                     merged = merged.merged_with(old);
@@ -215,6 +220,8 @@ impl WorldModel {
             }
             current.push(merged);
         }
+        // A pushed object seen again is no longer a prediction.
+        self.pushed.retain(|id| !absorbed.contains(id));
         for old in &self.prisms {
             if !absorbed.contains(&old.id) && (settled(old) || !seen_floor(old, None)) {
                 current.push(old.clone());
@@ -239,6 +246,7 @@ impl WorldModel {
         for p in self.prisms.iter_mut().filter(|p| p.id == id) {
             *p = p.transformed(&motion);
         }
+        self.pushed.insert(id);
     }
 
     /// Whether `prism` lies at the edge of everything seen: a wall, not an object to push.
@@ -504,5 +512,33 @@ mod tests {
         world.remember(vec![face], &floor(1.0, 2.5, 1.2, 2.7), &robot, &config);
         assert_eq!(world.prisms.len(), 2, "{:?}", world.prisms);
         assert!(world.prisms.iter().all(|p| !p.contains_xy(&between)));
+    }
+
+    #[test]
+    fn a_pushed_object_seen_again_is_where_the_look_shows_it() {
+        // Invariant: the footprint of an object moved by a push is a prediction: the next detection overlapping it replaces it (the object turned as it slid) instead of growing over it, and after that sight the object is remembered as usual again.
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let robot = Point2::new(2.9, 2.4);
+        let no_floor = floor(1.0, 2.5, 1.2, 2.7);
+        let mut world = WorldModel {
+            prisms: vec![prism(9, 2.75, 1.55, 3.25, 2.05)],
+            ..WorldModel::default()
+        };
+        world.displace(ObjectId(9), nalgebra::Vector2::new(0.0, -0.6));
+        assert!(world.prisms[0].contains_xy(&Point2::new(2.8, 1.0)));
+        // The look shows it 0.1 m short of the prediction and further east.
+        let seen = prism(9, 2.85, 1.05, 3.35, 1.55);
+        world.remember(vec![seen.clone()], &no_floor, &robot, &config);
+        assert_eq!(world.prisms, vec![seen.clone()]);
+        assert!(world.pushed.is_empty());
+        // Seen again in part: now it grows over what was seen before, as any object seen in parts.
+        let part = prism(9, 2.85, 1.3, 3.35, 1.55);
+        world.remember(vec![part], &no_floor, &robot, &config);
+        assert_eq!(world.prisms.len(), 1);
+        assert!(world.prisms[0].contains_xy(&Point2::new(3.0, 1.1)));
     }
 }
