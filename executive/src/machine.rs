@@ -459,7 +459,10 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
     if may_walk_on && !tested_movable && waited(&k, candidate.id) < config.passive_waits {
         return wait_for(candidate.id, k);
     }
-    let known_movable = candidate.passively_movable || tested_movable;
+    // A clearing push that moved the object as planned proved it movable, as a push test would; the
+    // grid's passive evidence is gone by then (the robot's own push wrote its cells).
+    let cleared_before = k.clears.get(&candidate.id).is_some_and(|n| *n > 0);
+    let known_movable = candidate.passively_movable || tested_movable || cleared_before;
     let (purpose, edge) = if known_movable {
         (Purpose::Clear, Edge::KnownMovable)
     } else {

@@ -400,6 +400,19 @@ fn a_movable_verdict_from_a_past_test_skips_a_second_test() {
 }
 
 #[test]
+fn an_object_cleared_before_is_cleared_again_without_a_test() {
+    // Invariant: an object a clearing push already moved as planned is known movable: when it still blocks the way (it slid short), it is cleared again without a push test, even though the grid's passive evidence is gone, and up to max_clears_per_object times.
+    let mut k = Knowledge::default();
+    k.clears.insert(CHAIR, 1);
+    let s = run(State::SelectCandidate, &k, candidates(&[CHAIR]));
+    assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::Planning));
+    assert_eq!(s.knowledge.push_tests, 0);
+    k.clears.insert(CHAIR, config().max_clears_per_object);
+    let s = run(State::SelectCandidate, &k, candidates(&[CHAIR]));
+    assert!(matches!(s.state, State::NoPathToGoal(_)));
+}
+
+#[test]
 fn every_edge_is_covered() {
     // Invariant: the cases above exercise every edge of the machine.
     let covered: BTreeSet<Edge> = all_cases().iter().map(|(_, case)| case()).collect();

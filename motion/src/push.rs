@@ -49,6 +49,14 @@ pub struct PushConfig {
     pub face_band: f64,
     /// Faces shorter than this are not pushed (m).
     pub min_face: f64,
+    /// Least gap (m) the object's sweep keeps from every other obstacle. A real object turns a little
+    /// as it slides and its footprint is known to a few centimetres: a sweep that grazes a corner
+    /// (a wall's end beside a doorway) catches on it and jams or swings into the way.
+    pub sweep_clearance: f64,
+    /// The push that opens the way is made this much longer (m) where the longer sweep is free too:
+    /// an object that turns as it slides (pushed off its centre, or dragging a corner) ends short of
+    /// the hand's travel, and a push planned to the centimetre would leave it in the way.
+    pub distance_margin: f64,
     /// Faces whose normals differ by less than this are one push direction (rad).
     pub merge_angle: f64,
     /// Planner for the approach and for the path after the push.
@@ -73,6 +81,8 @@ impl Default for PushConfig {
             hand_below_top: 0.05,
             face_band: 0.05,
             min_face: 0.1,
+            sweep_clearance: 0.05,
+            distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
             planner: RrtConnect::default(),
             budget: Budget::iterations(5_000),
@@ -335,35 +345,90 @@ fn valid_pushes(
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<Candidate>, PushError> {
     let mut out = Vec::new();
-    let d = stance.direction.into_inner();
     for &distance in &config.distances {
         if !(distance.is_finite() && distance > 0.0) {
             continue;
         }
-        let offset = d * distance;
-        let swept = object.swept(&offset).map_err(ValidityError::from)?;
-        let into_other = others.iter().any(|o| o.distance_to_obstacle(&swept) <= 0.0);
-        let walls = validity.walls();
-        let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
-        let end = stance.stand + offset;
         // Sweeps only grow with distance: once blocked, longer pushes are blocked too.
-        if into_other || through_wall || !without.motion_free(&stance.stand, &end) {
+        let Some(candidate) = push_of(
+            stance, distance, object, others, validity, without, goal, config, rng,
+        )?
+        else {
             break;
+        };
+        if candidate.path_after.is_none() {
+            out.push(candidate);
+            continue;
         }
-        let after = validity.with_moved(object.id(), &offset)?;
-        let path_after = plan(&after, &end, &goal.centre(), goal.tolerance(), config, rng);
-        let opens = path_after.is_some();
-        out.push(Candidate {
-            stance: stance.clone(),
-            distance,
-            displaced: object.footprint().iter().map(|p| p + offset).collect(),
-            path_after,
-        });
-        if opens {
-            break;
-        }
+        // The push that opens the way, made longer by the margin where that is free too: an object
+        // that turns as it slides ends short of where the hand drove it.
+        let longer = if config.distance_margin > 0.0 {
+            push_of(
+                stance,
+                distance + config.distance_margin,
+                object,
+                others,
+                validity,
+                without,
+                goal,
+                config,
+                rng,
+            )?
+            .filter(|c| c.path_after.is_some())
+        } else {
+            None
+        };
+        out.push(longer.unwrap_or(candidate));
+        break;
     }
     Ok(out)
+}
+
+/// The push of `object` from `stance` by `distance`, with the path to the goal after it (`None` in
+/// it when the push does not open the way); `None` when the sweep runs into something.
+#[allow(clippy::too_many_arguments)]
+fn push_of(
+    stance: &Stance,
+    distance: f64,
+    object: &Obstacle,
+    others: &[&Obstacle],
+    validity: &Validity,
+    without: &Validity,
+    goal: &GoalRegion,
+    config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Result<Option<Candidate>, PushError> {
+    let offset = stance.direction.into_inner() * distance;
+    let swept = object.swept(&offset).map_err(ValidityError::from)?;
+    let into_other = others.iter().any(|o| {
+        !sweep_keeps_clear(
+            o.distance_to_obstacle(object),
+            o.distance_to_obstacle(&swept),
+            config.sweep_clearance,
+        )
+    });
+    let walls = validity.walls();
+    let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
+    let end = stance.stand + offset;
+    if into_other || through_wall || !without.motion_free(&stance.stand, &end) {
+        return Ok(None);
+    }
+    let after = validity.with_moved(object.id(), &offset)?;
+    let path_after = plan(&after, &end, &goal.centre(), goal.tolerance(), config, rng);
+    Ok(Some(Candidate {
+        stance: stance.clone(),
+        distance,
+        displaced: object.footprint().iter().map(|p| p + offset).collect(),
+        path_after,
+    }))
+}
+
+/// Whether a sweep whose footprint lies `swept_gap` (m) from an obstacle, starting `start_gap` from it,
+/// keeps clear of it: it never touches it, and keeps `clearance`, or, from an obstacle the object
+/// already stands closer to, the gap it starts with (the sweep holds the start footprint, so that is
+/// the most it can keep: the object may move away, not closer).
+fn sweep_keeps_clear(start_gap: f64, swept_gap: f64, clearance: f64) -> bool {
+    swept_gap > 0.0 && swept_gap >= clearance.min(start_gap - 1e-6)
 }
 
 fn plan(
@@ -420,6 +485,17 @@ mod tests {
         };
         let obstacle = Obstacle::new(ObjectId(1), &footprint, 0.0, 0.85).expect("square");
         (prism, obstacle)
+    }
+
+    #[test]
+    fn a_sweep_keeps_the_clearance_or_the_gap_it_starts_with() {
+        // Invariant: a push may not graze another obstacle (closer than the clearance) unless the object already starts closer, in which case it may only keep its starting gap (move away or alongside), never come closer or touch.
+        assert!(sweep_keeps_clear(0.3, 0.2, 0.05));
+        assert!(!sweep_keeps_clear(0.3, 0.01, 0.05));
+        assert!(!sweep_keeps_clear(0.3, 0.0, 0.05));
+        assert!(sweep_keeps_clear(0.02, 0.02, 0.05));
+        assert!(!sweep_keeps_clear(0.02, 0.01, 0.05));
+        assert!(!sweep_keeps_clear(0.0, 0.0, 0.05));
     }
 
     #[test]

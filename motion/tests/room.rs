@@ -209,3 +209,43 @@ fn the_cheapest_crossing_goes_through_movable_candidates_only() {
         nudge_motion::cheapest_crossing(&p, &v, &[], &nudge_motion::CrossingConfig::default());
     assert!(matches!(none, Err(nudge_motion::NoPath::NotFound { .. })));
 }
+
+#[test]
+fn the_push_that_opens_the_way_is_longer_by_the_margin_and_its_sweep_keeps_clear() {
+    // Invariant: the planned push is the shortest that opens the way plus the distance margin (an object that turns as it slides ends short), and its sweep keeps at least the sweep clearance from every other obstacle.
+    let (v, p) = common::room();
+    let exact = PushConfig {
+        distance_margin: 0.0,
+        ..PushConfig::default()
+    };
+    let config = PushConfig::default();
+    let plan_with = |config: &PushConfig| {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        plan_push(&prism(CHAIR_1), &v, &p.start(), p.goal(), config, &mut rng)
+            .expect("chair 1 can be pushed")
+    };
+    let (shortest, planned) = (plan_with(&exact), plan_with(&config));
+    assert!(shortest.opens_path && planned.opens_path);
+    assert!(
+        shortest.direction.angle(&planned.direction) < 1e-9,
+        "{:?} vs {:?}",
+        shortest.direction,
+        planned.direction
+    );
+    assert!(
+        (planned.distance - shortest.distance - config.distance_margin).abs() < 1e-9,
+        "{} vs {}",
+        planned.distance,
+        shortest.distance
+    );
+    let object = v.obstacle(CHAIR_1).expect("chair 1 is an obstacle");
+    let swept = object
+        .swept(&(planned.direction.into_inner() * planned.distance))
+        .expect("swept footprint");
+    for other in v.obstacles().iter().filter(|o| o.id() != CHAIR_1) {
+        if other.heights_overlap(object) {
+            assert!(other.distance_to_obstacle(&swept) > config.sweep_clearance);
+        }
+    }
+    check_push(&planned, &v);
+}

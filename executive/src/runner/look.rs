@@ -17,6 +17,14 @@ pub(crate) fn camera_pose(base: &Isometry2<f64>, head: (f64, f64)) -> Isometry3<
     )
 }
 
+/// Whether a floor model learnt again, `new`, describes the floor `known` was learnt on: `known` takes
+/// the mean of `new` (height and colour) for floor.
+fn same_floor(known: &FloorModel, new: &FloorModel) -> bool {
+    let c = new.mean_colour();
+    let level = |v: f64| v.round().clamp(0.0, 255.0) as u8;
+    known.is_floor(new.height(), [level(c.x), level(c.y), level(c.z)])
+}
+
 /// Nominal camera height for the frames reported to observers (m).
 const HEAD_HEIGHT: f64 = 1.4;
 
@@ -58,12 +66,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.world.see(&fused);
         // Learn the floor in front of the robot; when that patch shows no floor (facing a wall, an
         // object), keep the model learnt before.
-        let floor = match FloorModel::learn(&fused, &base, &self.config.perception.floor) {
-            Ok(floor) => floor,
-            Err(e) => match self.world.floor.clone() {
-                Some(floor) => floor,
-                None => return Event::PerceptionFailed(e.to_string()),
-            },
+        // A patch that the known floor would not call floor (the bottom of an object the robot stands
+        // next to, a mat) does not replace it either.
+        let learnt = FloorModel::learn(&fused, &base, &self.config.perception.floor);
+        let floor = match (learnt, self.world.floor.clone()) {
+            (Ok(new), Some(known)) if !same_floor(&known, &new) => known,
+            (Ok(new), _) => new,
+            (Err(_), Some(known)) => known,
+            (Err(e), None) => return Event::PerceptionFailed(e.to_string()),
         };
         match detect_on_floor(
             &fused,
@@ -86,5 +96,42 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             Err(e) => Event::PerceptionFailed(e.to_string()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Isometry2, Point3};
+    use nudge_perception::{CloudFrame, ColourCloud, FloorConfig};
+
+    /// A 1.2 m square of points at height `z` and colour `rgb` in front of a robot at the origin.
+    fn patch(z: f32, rgb: [u8; 3], jitter: u8) -> ColourCloud {
+        let mut cloud = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        for i in 0..60u8 {
+            for j in 0..60u8 {
+                let (x, y) = (0.3 + 0.02 * f32::from(i), -0.6 + 0.02 * f32::from(j));
+                let d = (i.wrapping_mul(7) ^ j.wrapping_mul(13)) % (2 * jitter + 1);
+                let c = rgb.map(|v| v.saturating_add(d).saturating_sub(jitter));
+                let dz = 0.002 * (f32::from(d) / f32::from(2 * jitter + 1) - 0.5);
+                cloud.push(Point3::new(x, y, z + dz), c);
+            }
+        }
+        cloud
+    }
+
+    #[test]
+    fn a_floor_learnt_on_an_object_does_not_replace_the_known_floor() {
+        // Invariant: a floor model learnt again on the same floor is accepted, one learnt on something else near floor height (an orange cart's bottom 2 cm up) is not.
+        let config = FloorConfig::default();
+        let pose = Isometry2::identity();
+        let known = FloorModel::learn(&patch(0.0, [150, 150, 140], 4), &pose, &config)
+            .expect("a floor patch in front of the robot");
+        let again = FloorModel::learn(&patch(0.001, [151, 149, 141], 4), &pose, &config)
+            .expect("the same floor");
+        let cart = FloorModel::learn(&patch(0.023, [200, 120, 30], 4), &pose, &config)
+            .expect("points near floor height");
+        assert!(same_floor(&known, &again));
+        assert!(!same_floor(&known, &cart));
     }
 }

@@ -179,7 +179,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let motion = self.config.push_motion.clone();
         let direction = intent.direction.into_inner();
         // The face on the push line, in the map: where the push test's hand left it, else the plan's.
-        let (mut face_map, mut measured) = match self.world.touched {
+        // The test's touch holds for this push only, made from the test's stand pose: a later clear of
+        // the same object starts from another pose, most likely at another face.
+        let (mut face_map, mut measured) = match self.world.touched.take() {
             Some((id, at)) if id == intent.target => (at, true),
             _ => {
                 let base = self.robot.base_pose()?.value;
@@ -261,6 +263,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         force_limit: f64,
     ) -> Result<Stroke, Interrupt> {
         let motion = self.config.push_motion.clone();
+        // The plan puts the hand anywhere within the arm's sideways reach, its edges included; a walk
+        // that ends a few millimetres off would put the line just outside and the arm would refuse it.
+        // Pushing those millimetres off the planned line is harmless.
+        let y = clamp_lateral(y, self.config.push.reach_y);
         self.robot.tare()?;
         self.robot.drain_wrenches()?;
         self.robot.start_guarded_move(GuardedMove {
@@ -390,4 +396,37 @@ fn icp_reading(
         rmse: result.rmse,
     };
     Some((reading, moved.xy()))
+}
+
+/// How far outside the arm's sideways reach (m) a stroke's line is moved back to its edge: the error
+/// of a walk to a stand pose, not a plan that asked for more than the arm can do.
+const LATERAL_SLACK: f64 = 0.02;
+
+/// `y` moved onto the nearer edge of `reach` when it lies at most [`LATERAL_SLACK`] outside it;
+/// otherwise unchanged (the arm then refuses a line the plan never meant).
+fn clamp_lateral(y: f64, (lo, hi): (f64, f64)) -> f64 {
+    if (lo - LATERAL_SLACK..lo).contains(&y) {
+        lo
+    } else if y > hi && y <= hi + LATERAL_SLACK {
+        hi
+    } else {
+        y
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stroke_line_just_outside_the_sideways_reach_is_moved_onto_its_edge() {
+        // Invariant: a lateral offset a few millimetres past the reach (a stand pose at the reach's edge, missed by the walk's error) is moved onto the edge; one inside is kept; one far outside is left for the arm to refuse.
+        let reach = (-0.4, 0.4);
+        assert_eq!(clamp_lateral(-0.4004, reach), -0.4);
+        assert_eq!(clamp_lateral(0.4006, reach), 0.4);
+        assert_eq!(clamp_lateral(-0.13, reach), -0.13);
+        assert_eq!(clamp_lateral(-0.4, reach), -0.4);
+        assert_eq!(clamp_lateral(0.55, reach), 0.55);
+        assert_eq!(clamp_lateral(-0.55, reach), -0.55);
+    }
 }

@@ -32,6 +32,9 @@ pub(crate) struct WorldModel {
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
     /// Obstacles a push test found static: they stay where they were measured (see [`Self::remember`]).
     pub settled: BTreeSet<ObjectId>,
+    /// Obstacles moved by a confirmed push since they were last seen: their footprints are predictions
+    /// (the object may have turned as it slid), which the next sight of them replaces.
+    pub pushed: BTreeSet<ObjectId>,
     /// Per grid cell, the robot-clock stamp of the last look or walk frame that left it Moving (NaN:
     /// never). Frames of the robot's own pushes do not count: that motion is its own doing.
     pub last_motion: Vec<f64>,
@@ -170,6 +173,32 @@ impl WorldModel {
                 .count()
                 >= config.forget_after_floor_points
         };
+        // Floor seen where the hull of two obstacles covers neither (two wall runs meeting at a corner,
+        // seen from inside it): they are two things, and their hull would be a phantom over free floor.
+        let floor_between = |a: &Prism, b: &Prism| {
+            let hull = a.merged_with(b);
+            let outside_both = |q: &Point2<f64>| !a.contains_xy(q) && !b.contains_xy(q);
+            let (lo, hi) = footprint_box(&hull);
+            let in_gap = |q: &Point2<f64>| {
+                q.x >= lo.x
+                    && q.y >= lo.y
+                    && q.x <= hi.x
+                    && q.y <= hi.y
+                    && hull.contains_xy(q)
+                    && outside_both(q)
+            };
+            let n = config.forget_after_floor_points;
+            floor_points
+                .iter_valid()
+                .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
+                .filter(|q| in_gap(q))
+                .take(n)
+                .count()
+                >= n
+                || self.grid.as_ref().is_some_and(|g| {
+                    free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA
+                })
+        };
         let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
         let settled = |p: &Prism| self.settled.contains(&p.id);
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
@@ -177,9 +206,11 @@ impl WorldModel {
         for new in detected {
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
-                if settled(old) {
+                if self.pushed.contains(&old.id) && !settled(old) {
+                    // A pushed object seen again: where it is now is what the look shows.
+                } else if settled(old) {
                     merged = old.merged_with(&merged);
-                } else if !seen_floor(old, Some(&new)) {
+                } else if !seen_floor(old, Some(&new)) && !floor_between(&merged, old) {
                     merged = merged.merged_with(old);
                 } else {
                     // Two obstacles side by side: the old one stays or goes on its own.
@@ -189,6 +220,8 @@ impl WorldModel {
             }
             current.push(merged);
         }
+        // A pushed object seen again is no longer a prediction.
+        self.pushed.retain(|id| !absorbed.contains(id));
         for old in &self.prisms {
             if !absorbed.contains(&old.id) && (settled(old) || !seen_floor(old, None)) {
                 current.push(old.clone());
@@ -213,6 +246,7 @@ impl WorldModel {
         for p in self.prisms.iter_mut().filter(|p| p.id == id) {
             *p = p.transformed(&motion);
         }
+        self.pushed.insert(id);
     }
 
     /// Whether `prism` lies at the edge of everything seen: a wall, not an object to push.
@@ -232,6 +266,35 @@ impl WorldModel {
         Problem::new(*robot, config.goal, config.goal_tolerance).map_err(|e| e.to_string())
     }
 }
+
+/// Area of grid cells seen free (m²) whose centres lie in the box `(lo, hi)` and satisfy `keep`.
+fn free_area_where(
+    grid: &ObstacleGrid,
+    (lo, hi): (Point2<f64>, Point2<f64>),
+    keep: impl Fn(&Point2<f64>) -> bool,
+) -> f64 {
+    let geometry = grid.geometry();
+    let res = geometry.resolution();
+    let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+        return 0.0;
+    };
+    let mut free = 0usize;
+    for y in a.y..=b.y {
+        for x in a.x..=b.x {
+            let cell = nudge_perception::grid::CellIndex { x, y };
+            if grid.class(cell) == Some(nudge_perception::grid::CellClass::Free)
+                && keep(&geometry.centre(cell))
+            {
+                free += 1;
+            }
+        }
+    }
+    free as f64 * res * res
+}
+
+/// Free floor (m²) the grid saw between two obstacles that keeps them from merging: a few cells, more
+/// than the slivers a hull adds along two overlapping views of one straight face.
+const MERGE_BLOCKING_FREE_AREA: f64 = 0.02;
 
 /// Whether the robot's disc at `centre` overlaps `prism`'s footprint by more than a few centimetres.
 fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
@@ -363,5 +426,119 @@ mod tests {
             &config,
         );
         assert_eq!(moved.prisms.len(), 1, "{:?}", moved.prisms);
+    }
+
+    /// The south wall's run near the corner and the partition's face, as two views see them: thin
+    /// strips overlapping at the corner (x = 3.5, y = 0).
+    fn corner_strips() -> (Prism, Prism) {
+        (
+            prism(10, 2.8, -0.02, 3.53, 0.02),
+            prism(16, 3.47, 0.0, 3.53, 0.64),
+        )
+    }
+
+    #[test]
+    fn two_wall_runs_meeting_at_a_corner_seen_with_floor_between_stay_apart() {
+        // Invariant: a new obstacle does not grow over an old one it overlaps when the hull of the two covers floor this look saw (two wall runs at a corner, seen from inside it): both stay, and the floor between them stays free; with no floor seen between, they merge as parts of one object.
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let robot = Point2::new(2.9, 2.2);
+        let (wall, face) = corner_strips();
+        let between = Point2::new(3.3, 0.12);
+        assert!(wall.merged_with(&face).contains_xy(&between));
+        let mut world = WorldModel {
+            prisms: vec![wall.clone()],
+            ..WorldModel::default()
+        };
+        world.remember(
+            vec![face.clone()],
+            &floor(3.2, 0.05, 3.42, 0.2),
+            &robot,
+            &config,
+        );
+        assert_eq!(world.prisms.len(), 2, "{:?}", world.prisms);
+        assert!(world.prisms.iter().all(|p| !p.contains_xy(&between)));
+
+        let mut unseen = WorldModel {
+            prisms: vec![wall],
+            ..WorldModel::default()
+        };
+        unseen.remember(vec![face], &floor(1.0, 2.5, 1.2, 2.7), &robot, &config);
+        assert_eq!(unseen.prisms.len(), 1, "{:?}", unseen.prisms);
+        assert!(unseen.prisms[0].contains_xy(&between));
+    }
+
+    #[test]
+    fn floor_the_grid_saw_free_keeps_two_obstacles_apart_when_this_look_cannot_see_it() {
+        // Invariant: floor between two overlapping obstacles that this look cannot see (an object in front hides it) but that the grid saw free earlier keeps them apart as well: their hull would be a phantom over free floor.
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let robot = Point2::new(2.9, 2.2);
+        let (wall, face) = corner_strips();
+        let geometry =
+            nudge_perception::grid::GridGeometry::new(Point2::new(0.0, -0.2), [4.0, 3.0], 0.05)
+                .expect("a valid grid");
+        let mut grid = ObstacleGrid::new(geometry, nudge_perception::grid::GridConfig::default());
+        let sensor = Point2::new(3.3, 1.5);
+        // Beams across the corner's triangle that return from the south wall, a few frames: the floor
+        // they crossed was seen.
+        for t in 1..=3 {
+            let mut frame =
+                nudge_perception::grid::RangeFrame::new(sensor).expect("a finite sensor position");
+            for i in 0..200 {
+                let end = Point2::new(3.05 + 0.002 * f64::from(i), -0.01);
+                assert!(frame.push_hit(end));
+            }
+            grid.update(&frame, f64::from(t))
+                .expect("a frame in clock order");
+        }
+        let between = Point2::new(3.3, 0.2);
+        assert!(wall.merged_with(&face).contains_xy(&between));
+        assert_eq!(
+            grid.class_at(between),
+            Some(nudge_perception::grid::CellClass::Free)
+        );
+        let mut world = WorldModel {
+            prisms: vec![wall],
+            grid: Some(grid),
+            ..WorldModel::default()
+        };
+        world.remember(vec![face], &floor(1.0, 2.5, 1.2, 2.7), &robot, &config);
+        assert_eq!(world.prisms.len(), 2, "{:?}", world.prisms);
+        assert!(world.prisms.iter().all(|p| !p.contains_xy(&between)));
+    }
+
+    #[test]
+    fn a_pushed_object_seen_again_is_where_the_look_shows_it() {
+        // Invariant: the footprint of an object moved by a push is a prediction: the next detection overlapping it replaces it (the object turned as it slid) instead of growing over it, and after that sight the object is remembered as usual again.
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let robot = Point2::new(2.9, 2.4);
+        let no_floor = floor(1.0, 2.5, 1.2, 2.7);
+        let mut world = WorldModel {
+            prisms: vec![prism(9, 2.75, 1.55, 3.25, 2.05)],
+            ..WorldModel::default()
+        };
+        world.displace(ObjectId(9), nalgebra::Vector2::new(0.0, -0.6));
+        assert!(world.prisms[0].contains_xy(&Point2::new(2.8, 1.0)));
+        // The look shows it 0.1 m short of the prediction and further east.
+        let seen = prism(9, 2.85, 1.05, 3.35, 1.55);
+        world.remember(vec![seen.clone()], &no_floor, &robot, &config);
+        assert_eq!(world.prisms, vec![seen.clone()]);
+        assert!(world.pushed.is_empty());
+        // Seen again in part: now it grows over what was seen before, as any object seen in parts.
+        let part = prism(9, 2.85, 1.3, 3.35, 1.55);
+        world.remember(vec![part], &no_floor, &robot, &config);
+        assert_eq!(world.prisms.len(), 1);
+        assert!(world.prisms[0].contains_xy(&Point2::new(3.0, 1.1)));
     }
 }
