@@ -336,6 +336,15 @@ mod tests {
         }
     }
 
+    /// The run's configuration for the paper's robot and a goal at `goal` (0.2 m tolerance).
+    fn config_to(goal: Point2<f64>) -> RunConfig {
+        let robot_shape = nudge_motion::RobotCylinder {
+            radius: 0.35,
+            height: 1.54,
+        };
+        RunConfig::new(robot_shape, goal, 0.2, 1)
+    }
+
     /// Floor points on a 2 cm grid over `[x0, x1] × [y0, y1]`.
     fn floor(x0: f64, y0: f64, x1: f64, y1: f64) -> ColourCloud {
         let mut cloud = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
@@ -358,11 +367,7 @@ mod tests {
     #[test]
     fn a_static_table_seen_in_part_with_floor_between_its_legs_stays_whole_and_keeps_its_id() {
         // Invariant: an obstacle a push test found static is neither shrunk nor dropped by a later look that sees floor inside it, and a new detection overlapping it takes its id; an untested obstacle in the same situation is replaced.
-        let robot_shape = nudge_motion::RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        };
-        let config = RunConfig::new(robot_shape, Point2::new(5.4, 1.8), 0.2, 1);
+        let config = config_to(Point2::new(5.4, 1.8));
         let robot = Point2::new(0.6, 1.8);
         let table = prism(2, 2.6, 1.2, 3.4, 2.4);
         // The new look sees only the near half of the top, and floor under the far half.
@@ -391,11 +396,7 @@ mod tests {
     #[test]
     fn an_obstacle_touching_one_that_grew_is_kept_when_no_floor_shows_inside_it() {
         // Invariant: an old obstacle no new detection absorbed is kept unless floor shows inside it, even where it touches another old obstacle that a new detection grew over (the end of a wall beside the wall's base); floor inside it still makes it go.
-        let robot_shape = nudge_motion::RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        };
-        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let config = config_to(Point2::new(6.2, 1.8));
         let robot = Point2::new(2.95, 1.4);
         let wall_end = prism(3, 3.47, 0.6, 3.53, 1.3);
         let wall_base = prism(2, 3.04, 0.0, 3.53, 0.68);
@@ -440,11 +441,7 @@ mod tests {
     #[test]
     fn two_wall_runs_meeting_at_a_corner_seen_with_floor_between_stay_apart() {
         // Invariant: a new obstacle does not grow over an old one it overlaps when the hull of the two covers floor this look saw (two wall runs at a corner, seen from inside it): both stay, and the floor between them stays free; with no floor seen between, they merge as parts of one object.
-        let robot_shape = nudge_motion::RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        };
-        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let config = config_to(Point2::new(6.2, 1.8));
         let robot = Point2::new(2.9, 2.2);
         let (wall, face) = corner_strips();
         let between = Point2::new(3.3, 0.12);
@@ -474,11 +471,7 @@ mod tests {
     #[test]
     fn floor_the_grid_saw_free_keeps_two_obstacles_apart_when_this_look_cannot_see_it() {
         // Invariant: floor between two overlapping obstacles that this look cannot see (an object in front hides it) but that the grid saw free earlier keeps them apart as well: their hull would be a phantom over free floor.
-        let robot_shape = nudge_motion::RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        };
-        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let config = config_to(Point2::new(6.2, 1.8));
         let robot = Point2::new(2.9, 2.2);
         let (wall, face) = corner_strips();
         let geometry =
@@ -517,11 +510,7 @@ mod tests {
     #[test]
     fn a_pushed_object_seen_again_is_where_the_look_shows_it() {
         // Invariant: the footprint of an object moved by a push is a prediction: the next detection overlapping it replaces it (the object turned as it slid) instead of growing over it, and after that sight the object is remembered as usual again.
-        let robot_shape = nudge_motion::RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        };
-        let config = RunConfig::new(robot_shape, Point2::new(6.2, 1.8), 0.2, 1);
+        let config = config_to(Point2::new(6.2, 1.8));
         let robot = Point2::new(2.9, 2.4);
         let no_floor = floor(1.0, 2.5, 1.2, 2.7);
         let mut world = WorldModel {
