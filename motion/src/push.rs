@@ -148,6 +148,18 @@ struct Stance {
     hand_height: f64,
 }
 
+/// What every push of one object is checked against: the object, the other obstacles its sweep
+/// must keep clear of, the world with and without it, the goal and the planner's settings.
+#[derive(Clone, Copy)]
+struct PushScene<'a> {
+    object: &'a Obstacle,
+    others: &'a [&'a Obstacle],
+    validity: &'a Validity,
+    without: &'a Validity,
+    goal: &'a GoalRegion,
+    config: &'a PushConfig,
+}
+
 /// A valid push from a stance.
 #[derive(Clone, Debug)]
 struct Candidate {
@@ -188,13 +200,18 @@ pub fn plan_push(
         .iter()
         .filter(|o| o.id() != id && o.heights_overlap(&object))
         .collect();
-    let without = validity.without(&[id]);
+    let scene = PushScene {
+        object: &object,
+        others: &others,
+        validity,
+        without: &validity.without(&[id]),
+        goal,
+        config,
+    };
     let mut candidates = Vec::new();
     for (k, stance) in stances.iter().enumerate() {
         let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add(k as u64));
-        candidates.extend(valid_pushes(
-            stance, &object, &others, validity, &without, goal, config, &mut own,
-        )?);
+        candidates.extend(valid_pushes(stance, &scene, &mut own)?);
     }
     if candidates.is_empty() {
         return Err(PushError::Blocked(id));
@@ -333,27 +350,19 @@ fn stance_for(face: &Face, validity: &Validity, config: &PushConfig) -> Option<S
 
 /// Valid pushes from `stance`, shortest first: the first that opens a path ends the list, since a
 /// longer push along the same face is no better.
-#[allow(clippy::too_many_arguments)]
 fn valid_pushes(
     stance: &Stance,
-    object: &Obstacle,
-    others: &[&Obstacle],
-    validity: &Validity,
-    without: &Validity,
-    goal: &GoalRegion,
-    config: &PushConfig,
+    scene: &PushScene<'_>,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<Candidate>, PushError> {
+    let config = scene.config;
     let mut out = Vec::new();
     for &distance in &config.distances {
         if !(distance.is_finite() && distance > 0.0) {
             continue;
         }
         // Sweeps only grow with distance: once blocked, longer pushes are blocked too.
-        let Some(candidate) = push_of(
-            stance, distance, object, others, validity, without, goal, config, rng,
-        )?
-        else {
+        let Some(candidate) = push_of(stance, distance, scene, rng)? else {
             break;
         };
         if candidate.path_after.is_none() {
@@ -363,18 +372,8 @@ fn valid_pushes(
         // The push that opens the way, made longer by the margin where that is free too: an object
         // that turns as it slides ends short of where the hand drove it.
         let longer = if config.distance_margin > 0.0 {
-            push_of(
-                stance,
-                distance + config.distance_margin,
-                object,
-                others,
-                validity,
-                without,
-                goal,
-                config,
-                rng,
-            )?
-            .filter(|c| c.path_after.is_some())
+            push_of(stance, distance + config.distance_margin, scene, rng)?
+                .filter(|c| c.path_after.is_some())
         } else {
             None
         };
@@ -386,18 +385,20 @@ fn valid_pushes(
 
 /// The push of `object` from `stance` by `distance`, with the path to the goal after it (`None` in
 /// it when the push does not open the way); `None` when the sweep runs into something.
-#[allow(clippy::too_many_arguments)]
 fn push_of(
     stance: &Stance,
     distance: f64,
-    object: &Obstacle,
-    others: &[&Obstacle],
-    validity: &Validity,
-    without: &Validity,
-    goal: &GoalRegion,
-    config: &PushConfig,
+    scene: &PushScene<'_>,
     rng: &mut ChaCha8Rng,
 ) -> Result<Option<Candidate>, PushError> {
+    let PushScene {
+        object,
+        others,
+        validity,
+        without,
+        goal,
+        config,
+    } = *scene;
     let offset = stance.direction.into_inner() * distance;
     let swept = object.swept(&offset).map_err(ValidityError::from)?;
     let into_other = others.iter().any(|o| {
