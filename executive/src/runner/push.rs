@@ -405,7 +405,7 @@ const LATERAL_SLACK: f64 = 0.02;
 /// `y` moved onto the nearer edge of `reach` when it lies at most [`LATERAL_SLACK`] outside it;
 /// otherwise unchanged (the arm then refuses a line the plan never meant).
 fn clamp_lateral(y: f64, (lo, hi): (f64, f64)) -> f64 {
-    if (lo - LATERAL_SLACK..lo).contains(&y) {
+    if y < lo && y >= lo - LATERAL_SLACK {
         lo
     } else if y > hi && y <= hi + LATERAL_SLACK {
         hi
