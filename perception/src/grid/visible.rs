@@ -14,6 +14,7 @@
 
 #[cfg(any(test, doc))]
 use super::layers::Crossing;
+use wide::{bytemuck, u8x16, u16x8};
 
 /// Frames kept: t and the three before (the rules read t, t−1 and t−2).
 pub(crate) const SLOTS: usize = 4;
@@ -290,31 +291,32 @@ impl VisibleArea {
 }
 
 /// The far, free and near planes (bits 0, 1 and 2 of each byte) of one word's 64 level bytes, which
-/// it zeroes. Inlined into the fold, its planes stay in registers: returned through memory, each
-/// word's three were re-read as one 16-byte load straddling two 8-byte stores (a stalled store
-/// forward), and the whole word's zero test skips the chunks of words the near field left empty.
+/// it zeroes. Four 16-byte vectors: shifting a bit to the top of its byte lets one `pmovmskb`
+/// gather it from 16 cells at once (the 8-byte multiply trick gathered 8 per multiply). Inlined into
+/// the fold, its planes stay in registers, and the whole word's zero test skips the chunks of words
+/// the near field left empty.
 #[inline(always)]
 fn fold_word(bytes: &mut [u8; 64]) -> [u64; 3] {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    // Gathers bit 0 of each of the eight bytes into one byte (byte j to bit j).
-    let gather = |v: u64| (v & ONES).wrapping_mul(0x0102_0408_1020_4080) >> 56;
-    let v: [u64; 8] = std::array::from_fn(|q| {
-        let mut c = [0u8; 8];
-        c.copy_from_slice(&bytes[8 * q..8 * q + 8]);
-        u64::from_le_bytes(c)
-    });
-    if v.iter().fold(0, |a, &b| a | b) == 0 {
+    let v: [u8x16; 4] = bytemuck::cast(*bytes);
+    let any = v[0] | v[1] | v[2] | v[3];
+    if any.simd_eq(u8x16::ZERO).all() {
         return [0; 3];
     }
     *bytes = [0; 64];
-    let mut planes = [0u64; 3];
-    for (q, &v) in v.iter().enumerate() {
-        planes[FAR] |= gather(v) << (8 * q);
-        // Most walked cells are crossed far only (all but the last few before a return).
-        if v & !ONES != 0 {
-            planes[FREE] |= gather(v >> 1) << (8 * q);
-            planes[NEAR] |= gather(v >> 2) << (8 * q);
-        }
+    // Bit `b` of every byte, shifted to the byte's top bit (a 16-bit lane shift moves each byte's
+    // own bits up; what crosses from the lower byte lands below the top bit).
+    let plane = |b: u32| {
+        v.iter().enumerate().fold(0u64, |acc, (q, &x)| {
+            let lanes: u16x8 = bytemuck::cast(x);
+            let top: u8x16 = bytemuck::cast(lanes << (7 - b));
+            acc | u64::from(top.to_bitmask()) << (16 * q)
+        })
+    };
+    let mut planes = [plane(0), 0, 0];
+    // Most walked cells are crossed far only (all but the last few before a return).
+    if !(any & u8x16::splat(!1)).simd_eq(u8x16::ZERO).all() {
+        planes[FREE] = plane(1);
+        planes[NEAR] = plane(2);
     }
     planes
 }
