@@ -36,6 +36,9 @@ pub struct Traversal {
     t_max_y: f64,
     t_delta_x: f64,
     t_delta_y: f64,
+    /// Boundaries crossed per unit of segment parameter along x and y (`|dx|`, `|dy|`): the
+    /// reciprocals of the deltas, for counting boundaries without a division.
+    per_t: (f64, f64),
     end_x: i64,
     end_y: i64,
     t_end: f64,
@@ -70,6 +73,7 @@ impl Traversal {
             t_max_y: f64::INFINITY,
             t_delta_x: f64::INFINITY,
             t_delta_y: f64::INFINITY,
+            per_t: (0.0, 0.0),
             end_x: 0,
             end_y: 0,
             t_end: 0.0,
@@ -139,6 +143,7 @@ impl Traversal {
             t_max_y,
             t_delta_x,
             t_delta_y,
+            per_t: (dx.abs(), dy.abs()),
             end_x,
             end_y,
             t_end: t1,
@@ -262,8 +267,8 @@ impl Traversal {
                     skip_from = i64::MAX;
                     // Past the stretch: as many boundaries of each axis as lie before its end.
                     let (kx, ky) = (
-                        boundaries_before(a, da, skip_to),
-                        boundaries_before(b, db, skip_to),
+                        boundaries_before(a, da, skip_to, self.per_t.0 / ONE),
+                        boundaries_before(b, db, skip_to, self.per_t.1 / ONE),
                     );
                     if kx + ky + 1 < remaining as i64 {
                         cell(i as usize, level);
@@ -370,13 +375,15 @@ impl Traversal {
 }
 
 /// How many of the boundaries `start`, `start + step`, … (fixed point, `step > 0`) lie before
-/// `end`.
-fn boundaries_before(start: i64, step: i64, end: i64) -> i64 {
+/// `end`, given `per_step ≈ 1 / step`.
+fn boundaries_before(start: i64, step: i64, end: i64, per_step: f64) -> i64 {
     if end <= start {
         return 0;
     }
-    // A float estimate made exact by integer checks (off by rounding only).
-    let mut k = ((end - start) as f64 / step as f64) as i64;
+    // The count is the quotient's ceiling: a float estimate, truncated and one up (no library
+    // call), made exact by integer checks (off by rounding only). A multiplication: a division
+    // here waited on the divider.
+    let mut k = ((end - start) as f64 * per_step) as i64 + 1;
     let at = |k: i64| start.saturating_add(k.saturating_mul(step));
     while at(k) < end {
         k += 1;
@@ -527,9 +534,9 @@ mod tests {
         assert_eq!(fixed(3000.0), 1 << 60);
         assert!(fixed(255.0) < 1 << 60);
         assert!(fixed(1e6).checked_add(fixed(1e6)).is_some());
-        assert_eq!(boundaries_before(fixed(0.25), fixed(1e6), fixed(0.5)), 1);
-        assert_eq!(boundaries_before(fixed(0.25), fixed(0.1), fixed(0.5)), 3);
-        assert_eq!(boundaries_before(fixed(0.75), fixed(0.1), fixed(0.5)), 0);
+        assert_eq!(boundaries_before(fixed(0.25), fixed(1e6), fixed(0.5), 1e-6 / ONE), 1);
+        assert_eq!(boundaries_before(fixed(0.25), fixed(0.1), fixed(0.5), 10.0 / ONE), 3);
+        assert_eq!(boundaries_before(fixed(0.75), fixed(0.1), fixed(0.5), 10.0 / ONE), 0);
     }
 
     #[test]

@@ -59,8 +59,16 @@ impl Walk<'_> {
         }
         // The sensor's grid coordinates once, and each end's once (for its cell and its walk).
         let from = geom.grid_coords(sensor);
+        // The box of the sensor and every beam's end holds every cell a walk can cross: a walk
+        // stays in its segment's box, bar a step of floating-point drift at its end (a cell's
+        // margin). Per frame, not per walk: a walk's own box cost two integer divisions.
+        let (mut lo, mut hi) = (from, from);
         for (k, (beam, r)) in beams.iter().zip(reach.iter()).enumerate() {
             let hit_end = geom.grid_coords(beam.end);
+            (lo, hi) = (
+                (lo.0.min(hit_end.0), lo.1.min(hit_end.1)),
+                (hi.0.max(hit_end.0), hi.1.max(hit_end.1)),
+            );
             let hit_cell = match beam.kind {
                 BeamEnd::Hit => geom.cell_checked(floor(hit_end.0), floor(hit_end.1)),
                 BeamEnd::Clear => None,
@@ -105,16 +113,13 @@ impl Walk<'_> {
                 BeamEnd::Hit => Traversal::between(geom, from, hit_end),
                 BeamEnd::Clear => Traversal::between(geom, from, geom.grid_coords(end)),
             };
-            let cells = walk.for_each_cell(geom, hit_cell, &cuts, skippable, |i, bit| {
+            walk.for_each_cell(geom, hit_cell, &cuts, skippable, |i, bit| {
                 if let Some(v) = level.get_mut(i) {
                     *v |= bit;
                 }
             });
-            if let Some((a, b)) = cells {
-                walked = walked.union(CellBox::spanned(geom.width(), a, b));
-            }
         }
-        walked
+        walked.union(CellBox::around(geom, lo, hi))
     }
 
     /// What the near field needs of `beam`.

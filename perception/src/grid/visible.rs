@@ -14,6 +14,7 @@
 
 #[cfg(any(test, doc))]
 use super::layers::Crossing;
+use super::geometry::{GridGeometry, floor};
 use wide::{bytemuck, u8x16, u16x8};
 
 /// Frames kept: t and the three before (the rules read t, t−1 and t−2).
@@ -401,6 +402,28 @@ impl CellBox {
             x1: ax.max(bx),
             y0: ay.min(by),
             y1: ay.max(by),
+        }
+    }
+
+    /// The cells of `geom` within a cell of the box with corners `lo` and `hi` (grid
+    /// coordinates, [`GridGeometry::grid_coords`]); empty when the box misses the grid or a
+    /// corner is NaN.
+    pub fn around(geom: &GridGeometry, lo: (f64, f64), hi: (f64, f64)) -> Self {
+        let (w, h) = (geom.width() as f64, geom.height() as f64);
+        // Clamped in floating point first: a far or infinite corner converts exactly.
+        let cell = |c: f64, n: f64| floor(c).clamp(-1.0, n) as i64;
+        let (x0, x1) = (cell(lo.0, w) - 1, cell(hi.0, w) + 1);
+        let (y0, y1) = (cell(lo.1, h) - 1, cell(hi.1, h) + 1);
+        let (w, h) = (geom.width() as i64, geom.height() as i64);
+        if !(lo.0 <= hi.0 && lo.1 <= hi.1) || x1 < 0 || y1 < 0 || x0 >= w || y0 >= h {
+            return Self::EMPTY;
+        }
+        CellBox {
+            width: geom.width(),
+            x0: x0.max(0) as usize,
+            x1: x1.min(w - 1) as usize,
+            y0: y0.max(0) as usize,
+            y1: y1.min(h - 1) as usize,
         }
     }
 
