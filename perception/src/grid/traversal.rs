@@ -257,6 +257,16 @@ impl Traversal {
             }
             _ => (i64::MAX, 0),
         };
+        let step = |i: i64, a: i64, b: i64, remaining: u64| {
+            if a < b - eps {
+                (i + dix, a + da, b, remaining)
+            } else if b < a - eps {
+                (i + diy, a, b + db, remaining)
+            } else {
+                // Through a corner: one diagonal step covers two boundaries.
+                (i + dix + diy, a + da, b + db, remaining - 1)
+            }
+        };
         let mut next = cut.min(skip_from);
         while remaining > 1 {
             if a > next && b > next {
@@ -286,22 +296,20 @@ impl Traversal {
                 if remaining <= 1 {
                     break;
                 }
+                if skip_from == i64::MAX && level > Crossing::Far.level() {
+                    // The last few cells before the return, crossed free or near: each cell's
+                    // level from its own exit, and no loop exit per cut (each one mispredicted).
+                    while remaining > 1 {
+                        cell(i as usize, at(a, b).0);
+                        remaining -= 1;
+                        (i, a, b, remaining) = step(i, a, b, remaining);
+                    }
+                    break;
+                }
             }
             cell(i as usize, level);
             remaining -= 1;
-            if a < b - eps {
-                i += dix;
-                a += da;
-            } else if b < a - eps {
-                i += diy;
-                b += db;
-            } else {
-                // Through a corner: one diagonal step covers two boundaries.
-                i += dix + diy;
-                a += da;
-                b += db;
-                remaining -= 1;
-            }
+            (i, a, b, remaining) = step(i, a, b, remaining);
         }
         // The last cell: the end cell (not walked if it is the stop cell), or where the budget ran
         // out if floating point stepped past it.
