@@ -26,6 +26,8 @@
 //! the fill reaches along it: on the office scan, 23 800 steps become about 16 700. Every filled
 //! cell lies in a part whose own bound holds for it, so the union is exact too.
 
+use std::hint::select_unpredictable;
+
 use nalgebra::Vector2;
 
 #[cfg(doc)]
@@ -181,9 +183,7 @@ impl NearField {
             let within = ceil_int((spread / narrowest).min(n as f64)) as usize + 1;
             let (lo, hi) = (k.saturating_sub(within), (k + within).min(n - 1));
             for b in &mut bound[lo..=hi] {
-                if far < *b {
-                    *b = far;
-                }
+                *b = select_unpredictable(far < *b, far, *b);
             }
         }
         // Plain compares: nothing here is NaN (a NaN reach fails `far >= dense` and is skipped).
@@ -450,10 +450,15 @@ fn ceil_int(x: f64) -> i64 {
     -floor_int(-x)
 }
 
-/// The lesser and the greater of two numbers that are not NaN.
+/// The lesser and the greater of two numbers that are not NaN. Selects, not a branch: along a
+/// fan the bounds go up and down as the returns do.
 #[inline]
 fn min_max(a: f64, b: f64) -> (f64, f64) {
-    if a < b { (a, b) } else { (b, a) }
+    let less = a < b;
+    (
+        select_unpredictable(less, a, b),
+        select_unpredictable(less, b, a),
+    )
 }
 
 /// Calls `run` for cells `lo..=hi` of `row` if there are any.
