@@ -31,7 +31,7 @@ struct Walk<'a> {
 impl Walk<'_> {
     /// Walks `beams`, oring each crossed cell's [`Crossing::level`] into `level`, except where the
     /// beams are dense enough for the near field to mark their cells through `out` (see
-    /// `near_field.rs`); returns the box of cells marked either way. `reach` is scratch space.
+    /// `near_field.rs`); returns a box holding every cell marked either way. `reach` is scratch space.
     fn beams(
         &self,
         beams: &[Beam],
@@ -42,19 +42,12 @@ impl Walk<'_> {
         let (geom, sensor) = (self.geom, self.sensor);
         reach.clear();
         reach.extend(beams.iter().map(|b| self.reach(b)));
-        let mut walked = CellBox::EMPTY;
         let near = NearField::of(geom, sensor, reach).filter(|_| self.near_field);
         if let Some(near) = &near {
+            // Every cell the fill marks is one a walk would cross: inside the box below.
             let width = geom.width();
             near.fill(geom, |y, x0, x1| {
                 out.or_far_run(y * width + x0, y * width + x1);
-                walked = walked.union(CellBox {
-                    width,
-                    x0,
-                    x1,
-                    y0: y,
-                    y1: y,
-                });
             });
         }
         // The sensor's grid coordinates once, and each end's once (for its cell and its walk).
@@ -119,7 +112,7 @@ impl Walk<'_> {
                 }
             });
         }
-        walked.union(CellBox::around(geom, lo, hi))
+        CellBox::around(geom, lo, hi)
     }
 
     /// What the near field needs of `beam`.
