@@ -29,6 +29,7 @@
 use std::hint::select_unpredictable;
 
 use nalgebra::Vector2;
+use wide::f64x2;
 
 #[cfg(doc)]
 use super::frame::Beam;
@@ -328,36 +329,52 @@ impl NearField {
             };
             let y0 = (floor_of(sy + down) - 1.0).max(0.0);
             let y1 = (floor_of(sy + up) + 1.0).min(h - 1.0);
+            // Two rows at a time: the bounds are float arithmetic (two square roots, five
+            // floors), lane for lane the same as one row's; only the runs are emitted one by one.
+            let (r_out2, r_in2) = (f64x2::splat(r_out * r_out), f64x2::splat(r_in * r_in));
+            let (sx2, sy2) = (f64x2::splat(sx), f64x2::splat(sy));
+            let one = f64x2::splat(1.0);
             let mut y = y0;
             while y <= y1 {
-                let (ya, yb) = (y - sy, y + 1.0 - sy);
-                let y_far = ya.abs().max(yb.abs());
-                if y_far < r_out {
-                    // All four corners within r_out.
-                    let half = (r_out * r_out - y_far * y_far).sqrt();
-                    let mut lo = ceil_int(sx - half);
-                    let mut hi = floor_int(sx + half) - 1;
-                    for plane in &planes {
-                        (lo, hi) = plane.clip(lo, hi, ya, yb, sx);
+                let ya = f64x2::new([y, y + 1.0]) - sy2;
+                let yb = ya + one;
+                let y_far = ya.abs().fast_max(yb.abs());
+                let inside = y_far.simd_lt(f64x2::splat(r_out)).to_bitmask();
+                if inside == 0 {
+                    y += 2.0;
+                    continue;
+                }
+                // All four corners within r_out (the lanes outside are not emitted).
+                let half = (r_out2 - y_far * y_far).fast_max(f64x2::ZERO).sqrt();
+                let mut lo = ceil_lanes(sx2 - half);
+                let mut hi = floor_lanes(sx2 + half) - one;
+                for plane in &planes {
+                    (lo, hi) = plane.clip(lo, hi, ya, yb, sx2);
+                }
+                let lo = lo.fast_max(f64x2::ZERO).to_array();
+                let hi = hi.fast_min(f64x2::splat(w as f64 - 1.0)).to_array();
+                // Nearest point at least r_in away: a hole around the sensor's column.
+                let straddles = ya.simd_le(f64x2::ZERO) & yb.simd_ge(f64x2::ZERO);
+                let y_near = straddles.select(f64x2::ZERO, ya.abs().fast_min(yb.abs()));
+                let holed = y_near.simd_lt(f64x2::splat(r_in)).to_bitmask();
+                let v = (r_in2 - y_near * y_near).fast_max(f64x2::ZERO).sqrt();
+                let hole_hi = (floor_lanes(sx2 - v) - one).to_array();
+                let hole_lo = ceil_lanes(sx2 + v).to_array();
+                for lane in 0..2 {
+                    let row = y + lane as f64;
+                    if row > y1 || inside >> lane & 1 == 0 {
+                        continue;
                     }
-                    lo = lo.max(0);
-                    hi = hi.min(w - 1);
-                    // Nearest point at least r_in away: a hole around the sensor's column.
-                    let y_near = if ya <= 0.0 && yb >= 0.0 {
-                        0.0
+                    let (lo, hi) = (lo[lane] as i64, hi[lane] as i64);
+                    if holed >> lane & 1 == 0 {
+                        emit(row as usize, lo, hi, &mut run);
                     } else {
-                        ya.abs().min(yb.abs())
-                    };
-                    let row = y as usize;
-                    if y_near >= r_in {
-                        emit(row, lo, hi, &mut run);
-                    } else {
-                        let v = (r_in * r_in - y_near * y_near).sqrt();
-                        emit(row, lo, hi.min(floor_int(sx - v) - 1), &mut run);
-                        emit(row, lo.max(ceil_int(sx + v)), hi, &mut run);
+                        let (hole_hi, hole_lo) = (hole_hi[lane] as i64, hole_lo[lane] as i64);
+                        emit(row as usize, lo, hi.min(hole_hi), &mut run);
+                        emit(row as usize, lo.max(hole_lo), hi, &mut run);
                     }
                 }
-                y += 1.0;
+                y += 2.0;
             }
         }
     }
@@ -387,27 +404,45 @@ impl HalfPlane {
         }
     }
 
-    /// Narrows cells `lo..=hi` of the row whose cells' lower and upper edges are `ya` and `yb`
-    /// (relative to the sensor) to those meeting the condition.
+    /// Narrows cells `lo..=hi` (as floats) of two rows whose cells' lower and upper edges are
+    /// `ya` and `yb` (relative to the sensor) to those meeting the condition, lane by lane.
     #[inline]
-    fn clip(&self, lo: i64, hi: i64, ya: f64, yb: f64, sx: f64) -> (i64, i64) {
-        let b = self.c * if self.upper { yb } else { ya };
+    fn clip(&self, lo: f64x2, hi: f64x2, ya: f64x2, yb: f64x2, sx: f64x2) -> (f64x2, f64x2) {
+        let b = f64x2::splat(self.c) * if self.upper { yb } else { ya };
         // a·(x + right − sx) + b > 0  ⇔  x > or < sx − right − b / a.
-        let at = sx - self.right - b * self.inv_a;
-        if at.is_nan() {
-            // Only from an infinite sensor coordinate or 1 / a: no bound (as a float bound's
-            // max and min would ignore it).
-            (lo, hi)
-        } else if self.a > 0.0 {
-            (lo.max(floor_int(at) + 1), hi)
+        let at = sx - f64x2::splat(self.right) - b * f64x2::splat(self.inv_a);
+        // NaN only from an infinite sensor coordinate or 1 / a: no bound (as a float bound's max
+        // and min would ignore it).
+        let known = at.simd_eq(at);
+        if self.a > 0.0 {
+            let bound = floor_lanes(at) + f64x2::splat(1.0);
+            (known.select(lo.fast_max(bound), lo), hi)
         } else if self.a < 0.0 {
-            (lo, hi.min(ceil_int(at) - 1))
-        } else if b > 0.0 {
-            (lo, hi)
+            let bound = ceil_lanes(at) - f64x2::splat(1.0);
+            (lo, known.select(hi.fast_min(bound), hi))
         } else {
-            (1, 0)
+            let keep = b.simd_gt(f64x2::ZERO) | !known;
+            (
+                keep.select(lo, f64x2::splat(1.0)),
+                keep.select(hi, f64x2::ZERO),
+            )
         }
     }
+}
+
+/// [`floor_int`] lane by lane, as floats (integers): the same rounding, in two lanes at once.
+#[inline]
+fn floor_lanes(x: f64x2) -> f64x2 {
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let x = x.fast_max(f64x2::splat(-1e15)).fast_min(f64x2::splat(1e15));
+    let r = (x + f64x2::splat(ROUND)) - f64x2::splat(ROUND);
+    r - (r.simd_gt(x) & f64x2::splat(1.0))
+}
+
+/// [`ceil_int`] lane by lane, as floats.
+#[inline]
+fn ceil_lanes(x: f64x2) -> f64x2 {
+    -floor_lanes(-x)
 }
 
 /// `x.floor()` for the fill's bounds, without a library call, a branch (the grid's own `floor`
@@ -428,11 +463,10 @@ fn ceil(x: f64) -> f64 {
     -floor_of(-x)
 }
 
-/// [`floor_of`] as an integer, for a row's bounds: `x` clamped to ±10¹⁵ and floored, with
-/// integer compares and selects where the float's `r > x` became an unpredictable branch per row.
-/// Exact for every `x` but NaN (meaningless then: the callers rule it out). No float-to-integer
-/// conversion, whose saturation and NaN checks cost more than the floor: the rounded value's bits
-/// are the integer.
+/// [`floor_of`] as an integer: `x` clamped to ±10¹⁵ and floored, with integer compares and
+/// selects where the float's `r > x` would be an unpredictable branch. Exact for every `x` but NaN
+/// (meaningless then: the callers rule it out). No float-to-integer conversion, whose saturation
+/// and NaN checks cost more than the floor: the rounded value's bits are the integer.
 #[inline]
 fn floor_int(x: f64) -> i64 {
     // Adding 1.5·2⁵² rounds to the nearest integer and lands in [2⁵², 2⁵³), where consecutive

@@ -542,9 +542,18 @@ mod tests {
         assert_eq!(fixed(3000.0), 1 << 60);
         assert!(fixed(255.0) < 1 << 60);
         assert!(fixed(1e6).checked_add(fixed(1e6)).is_some());
-        assert_eq!(boundaries_before(fixed(0.25), fixed(1e6), fixed(0.5), 1e-6 / ONE), 1);
-        assert_eq!(boundaries_before(fixed(0.25), fixed(0.1), fixed(0.5), 10.0 / ONE), 3);
-        assert_eq!(boundaries_before(fixed(0.75), fixed(0.1), fixed(0.5), 10.0 / ONE), 0);
+        assert_eq!(
+            boundaries_before(fixed(0.25), fixed(1e6), fixed(0.5), 1e-6 / ONE),
+            1
+        );
+        assert_eq!(
+            boundaries_before(fixed(0.25), fixed(0.1), fixed(0.5), 10.0 / ONE),
+            3
+        );
+        assert_eq!(
+            boundaries_before(fixed(0.75), fixed(0.1), fixed(0.5), 10.0 / ONE),
+            0
+        );
     }
 
     #[test]

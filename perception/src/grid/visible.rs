@@ -12,9 +12,9 @@
 //! saw that no newer slot saw get its frame number (`older`), so [`VisibleArea::last_crossed`] is
 //! exact however long ago.
 
+use super::geometry::{GridGeometry, floor};
 #[cfg(any(test, doc))]
 use super::layers::Crossing;
-use super::geometry::{GridGeometry, floor};
 use wide::{bytemuck, u8x16, u16x8};
 
 /// Frames kept: t and the three before (the rules read t, t−1 and t−2).
