@@ -261,59 +261,59 @@ impl FloorModel {
             .collect()
     }
 
-    /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's frame.
+    /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's
+    /// frame, in slot order. Each point is classified once.
     pub fn split(&self, cloud: &ColourCloud) -> (ColourCloud, ColourCloud) {
-        (self.select(cloud, true), self.select(cloud, false))
+        let (floor, other): (Vec<_>, Vec<_>) = self.valid_slots(cloud).into_iter().unzip();
+        (gather(cloud, &floor), gather(cloud, &other))
     }
 
     /// The valid points of `cloud` that are not floor (in the cloud's frame), in slot order.
     pub fn non_floor(&self, cloud: &ColourCloud) -> ColourCloud {
-        self.select(cloud, false)
+        let other: Vec<Vec<usize>> = self
+            .valid_slots(cloud)
+            .into_iter()
+            .map(|(_, other)| other)
+            .collect();
+        gather(cloud, &other)
     }
 
-    /// The valid points whose floor flag equals `floor`, filtered in parallel over fixed chunks and
-    /// joined in order (deterministic).
-    fn select(&self, cloud: &ColourCloud, floor: bool) -> ColourCloud {
+    /// The valid slots of `cloud` as (floor, other) index lists over fixed chunks, classified in
+    /// parallel and kept in chunk order (deterministic).
+    fn valid_slots(&self, cloud: &ColourCloud) -> Vec<(Vec<usize>, Vec<usize>)> {
         const CHUNK: usize = 16_384;
         let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
         let n = cloud.len();
-        let parts: Vec<Vec<usize>> = (0..n.div_ceil(CHUNK))
+        (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|k| {
                 (k * CHUNK..((k + 1) * CHUNK).min(n))
-                    .filter(|&i| {
-                        xs[i].is_finite()
-                            && ys[i].is_finite()
-                            && zs[i].is_finite()
-                            && self.is_floor(f64::from(zs[i]), cs[i]) == floor
-                    })
-                    .collect()
+                    .filter(|&i| xs[i].is_finite() && ys[i].is_finite() && zs[i].is_finite())
+                    .partition(|&i| self.is_floor(f64::from(zs[i]), cs[i]))
             })
-            .collect();
-        let total: usize = parts.iter().map(Vec::len).sum();
-        let (mut x, mut y, mut z, mut rgb) = (
-            Vec::with_capacity(total),
-            Vec::with_capacity(total),
-            Vec::with_capacity(total),
-            Vec::with_capacity(total),
-        );
-        for &i in parts.iter().flatten() {
-            x.push(xs[i]);
-            y.push(ys[i]);
-            z.push(zs[i]);
-            rgb.push(cs[i]);
-        }
-        ColourCloud::from_arrays(
-            x,
-            y,
-            z,
-            rgb,
-            cloud.frame(),
-            *cloud.sensor_pose(),
-            cloud.stamp(),
-        )
-        .unwrap_or_else(|| ColourCloud::empty(cloud.frame(), *cloud.sensor_pose(), cloud.stamp()))
+            .collect()
     }
+}
+
+/// The points of `cloud` at the slots of `parts` (in order), as an unorganised cloud in its frame.
+fn gather(cloud: &ColourCloud, parts: &[Vec<usize>]) -> ColourCloud {
+    let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
+    let total: usize = parts.iter().map(Vec::len).sum();
+    let (mut x, mut y, mut z, mut rgb) = (
+        Vec::with_capacity(total),
+        Vec::with_capacity(total),
+        Vec::with_capacity(total),
+        Vec::with_capacity(total),
+    );
+    for &i in parts.iter().flatten() {
+        x.push(xs[i]);
+        y.push(ys[i]);
+        z.push(zs[i]);
+        rgb.push(cs[i]);
+    }
+    let (frame, pose, stamp) = (cloud.frame(), *cloud.sensor_pose(), cloud.stamp());
+    ColourCloud::from_arrays(x, y, z, rgb, frame, pose, stamp)
+        .unwrap_or_else(|| ColourCloud::empty(frame, pose, stamp))
 }
 
 /// The non-floor points of a map-frame cloud (valid points only).

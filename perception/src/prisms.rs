@@ -12,6 +12,15 @@
 //! U of three walls becomes straight wall segments plus small corner pieces; a chair or a table, whose
 //! hull is about its cells, is never cut.
 //!
+//! **Corners.** The fill ratio cannot tell two wall runs meeting at a corner from two faces of a cart:
+//! both are an L of occupied cells whose hull is a triangle over the space between the arms. What tells
+//! them apart is the floor: inside a wall corner seen from within the room the sensor sees free floor,
+//! while behind a cart's faces the floor is hidden. So a piece whose hull covers more than
+//! [`PrismConfig::max_seen_floor_area`] of floor seen free ([`SeenFloor`]) is cut again, whatever its
+//! size, along the column or row boundary that leaves the least hull area on the two sides: for an L
+//! that is the boundary at the inner corner, so a corner becomes one prism per arm and no prism over
+//! the floor between them. A cart's L (no floor seen inside) stays one prism.
+//!
 //! Heights are measured from the floor. `z_max` is the height of the piece's top surface: the median
 //! of the robust tops ([`crate::elevation::Cell::z_top`]) of the cells within
 //! [`PrismConfig::top_band`] of the highest. The highest single point would be the surface plus the
@@ -29,6 +38,7 @@ use parry2d::math::Vector2 as GVec2;
 use crate::cloud::{CloudFrame, ColourCloud};
 use crate::elevation::{ElevationMap, NO_CELL};
 use crate::prism::{ObjectId, Prism, polygon_area};
+use crate::seen_floor::SeenFloor;
 use crate::segment::{Cluster, Connectivity, components};
 
 /// Parameters of prism building.
@@ -64,6 +74,21 @@ pub struct PrismConfig {
     /// median height is the prism's top. Default 0.03: three times the vertical range noise of a
     /// near surface, well under the 40 cm between a chair's seat and the top of its back.
     pub top_band: f32,
+    /// A piece whose footprint covers more floor seen free than this (m²), counting only cells at
+    /// least [`PrismConfig::seen_floor_margin`] inside its hull, is cut again (see the module doc).
+    /// Default 0.0064, four cells of the 4 cm elevation map. In the simulated rooms a chair whose seat
+    /// the table hides while the floor under it shows beneath the table covers 0.014 m² of seen floor
+    /// in all, none of it that deep; a wall corner 0.3 m or more on a side covers 0.019 m² and more
+    /// that deep.
+    pub max_seen_floor_area: f64,
+    /// Only floor cells whose centres lie at least this far (m) inside a hull count against it.
+    /// Default 0.05: the floor seen along a hull's edge between two legs of a chair (beside an inset
+    /// or hidden seat) lies within a cell of the edge, while the floor inside a corner lies deep in
+    /// the triangle between the arms.
+    pub seen_floor_margin: f64,
+    /// Floor cells within this many cells of anything else seen do not count as seen free (see
+    /// [`SeenFloor::build`]). Default 1: the 4 cm next to a chair's legs, seat edge or a wall's foot.
+    pub seen_floor_clearance: u32,
 }
 
 impl Default for PrismConfig {
@@ -79,6 +104,9 @@ impl Default for PrismConfig {
             fragment_gap: 0.1,
             low_height: 0.05,
             top_band: 0.03,
+            max_seen_floor_area: 0.0064,
+            seen_floor_margin: 0.05,
+            seen_floor_clearance: 1,
         }
     }
 }
@@ -87,25 +115,33 @@ impl Default for PrismConfig {
 /// [`crate::prism::track_ids`] for ids stable across looks).
 ///
 /// `cloud` must be the cloud `map` was built from (its points are gathered through
-/// [`ElevationMap::point_cells`]); points in sparse cells are not kept.
+/// [`ElevationMap::point_cells`]); points in sparse cells are not kept. `seen` is the floor the same
+/// look saw free on `map`'s grid ([`SeenFloor::none`] when unknown: hulls are then never cut for it).
 pub fn build_prisms(
     cloud: &ColourCloud,
     map: &ElevationMap,
     clusters: &[Cluster],
+    seen: &SeenFloor,
     config: &PrismConfig,
 ) -> Vec<Prism> {
     let mut pieces: Vec<(Vec<u32>, Vec<Point2<f64>>)> = Vec::new();
     let mut roots: Vec<usize> = Vec::new();
     for (root, cluster) in clusters.iter().enumerate() {
         let first = pieces.len();
-        split_into_compact(map, cluster.cells.clone(), config, 0, &mut pieces);
+        split_into_compact(map, seen, cluster.cells.clone(), config, 0, &mut pieces);
         if pieces.len() - first > 1 {
             // Pieces of a cut cluster overlap by one cell across each cut, so that the wall they
             // came from stays closed (no gap between two hulls where the points were continuous).
+            // Not where that grows a hull over floor seen free: one arm of a corner grown by a cell
+            // of the other would be a thin triangle over the floor between them, and the arms
+            // overlap at the corner cell anyway.
             let root: HashSet<u32> = cluster.cells.iter().copied().collect();
             for (cells, hull) in &mut pieces[first..] {
                 let grown = grow_within(map, cells, &root);
-                *hull = footprint_of(map, &grown, config.min_thickness);
+                let grown_hull = footprint_of(map, &grown, config.min_thickness);
+                if seen.free_area_in(&grown_hull) <= seen.free_area_in(hull) {
+                    *hull = grown_hull;
+                }
             }
         }
         roots.resize(pieces.len(), root);
@@ -255,9 +291,11 @@ fn polygon_distance(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     ab.min(ba)
 }
 
-/// Cuts `cells` until every piece is compact; pushes (cells, hull) pieces.
+/// Cuts `cells` until every piece is compact and covers no more than a sliver of floor seen free;
+/// pushes (cells, hull) pieces.
 fn split_into_compact(
     map: &ElevationMap,
+    seen: &SeenFloor,
     cells: Vec<u32>,
     config: &PrismConfig,
     depth: u32,
@@ -278,22 +316,110 @@ fn split_into_compact(
     let (w, h) = (c1.saturating_sub(c0) + 1, r1.saturating_sub(r0) + 1);
     let extent = f64::from(w.max(h)) * map.cell_size();
     let compact = polygon_area(&hull) <= config.max_hull_fill_ratio * occupied;
-    if compact || extent < config.min_split_extent || depth >= config.max_split_depth {
-        out.push((cells, hull));
+    let halves: (Vec<u32>, Vec<u32>) = if depth >= config.max_split_depth {
+        (cells, Vec::new())
+    } else if !compact && extent >= config.min_split_extent {
+        if w >= h {
+            let mid = c0 + w / 2;
+            cells.iter().partition(|&&k| all[k as usize].col < mid)
+        } else {
+            let mid = r0 + h / 2;
+            cells.iter().partition(|&&k| all[k as usize].row < mid)
+        }
+    } else if seen.free_area_inside(&hull, config.seen_floor_margin) > config.max_seen_floor_area {
+        least_hull_cut(map, &cells).unwrap_or((cells, Vec::new()))
+    } else {
+        (cells, Vec::new())
+    };
+    if halves.1.is_empty() {
+        out.push((halves.0, hull));
         return;
     }
-    let (lo, hi): (Vec<u32>, Vec<u32>) = if w >= h {
-        let mid = c0 + w / 2;
-        cells.iter().partition(|&&k| all[k as usize].col < mid)
-    } else {
-        let mid = r0 + h / 2;
-        cells.iter().partition(|&&k| all[k as usize].row < mid)
-    };
-    for half in [lo, hi] {
+    for half in [halves.0, halves.1] {
         for piece in components(map, &half, config.connectivity) {
-            split_into_compact(map, piece, config, depth + 1, out);
+            split_into_compact(map, seen, piece, config, depth + 1, out);
         }
     }
+}
+
+/// The cut of `cells` between two adjacent columns, or two adjacent rows, that leaves the least total
+/// hull area on its two sides, as (below the cut, above it); `None` for a single cell.
+///
+/// Hull areas of every prefix and suffix come from one monotone-chain sweep each way over the cells'
+/// extreme points (the chains after the first k points bound the hull of those points), so every
+/// candidate cut costs the length of two chains, not two hulls.
+fn least_hull_cut(map: &ElevationMap, cells: &[u32]) -> Option<(Vec<u32>, Vec<u32>)> {
+    let all = map.cells();
+    let mut best: Option<(f64, bool, u32)> = None;
+    for by_row in [false, true] {
+        // (line index, along, across): columns sweep along x, rows along y.
+        let mut pts: Vec<(u32, f64, f64)> = cells
+            .iter()
+            .flat_map(|&k| {
+                let c = &all[k as usize];
+                let line = if by_row { c.row } else { c.col };
+                c.extremes.iter().map(move |e| {
+                    let (x, y) = (f64::from(e[0]), f64::from(e[1]));
+                    if by_row { (line, y, x) } else { (line, x, y) }
+                })
+            })
+            .collect();
+        pts.sort_by(|a, b| {
+            a.0.cmp(&b.0)
+                .then(a.1.total_cmp(&b.1))
+                .then(a.2.total_cmp(&b.2))
+        });
+        let below = prefix_hull_areas(pts.iter());
+        let mut above = prefix_hull_areas(pts.iter().rev());
+        above.reverse();
+        // below[i]: hull of the lines up to the i-th distinct line; above[i]: of the lines from it.
+        for i in 1..below.len() {
+            let total = below[i - 1].1 + above[i].1;
+            if best.is_none_or(|(t, _, _)| total < t) {
+                best = Some((total, by_row, above[i].0));
+            }
+        }
+    }
+    let (_, by_row, first_above) = best?;
+    Some(cells.iter().partition(|&&k| {
+        let c = &all[k as usize];
+        (if by_row { c.row } else { c.col }) < first_above
+    }))
+}
+
+/// For points sorted by (line, along, across) — or that order reversed — the area of the hull of the
+/// points seen so far at the end of each line, as (line, area), in sweep order.
+fn prefix_hull_areas<'a>(points: impl Iterator<Item = &'a (u32, f64, f64)>) -> Vec<(u32, f64)> {
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    // Both chains run from the first point to the latest; the hull is the lower chain out and the
+    // upper chain back, so its doubled area is the lower chain's shoelace sum less the upper's.
+    let shoelace = |chain: &[(f64, f64)]| {
+        chain
+            .windows(2)
+            .map(|w| w[0].0 * w[1].1 - w[1].0 * w[0].1)
+            .sum::<f64>()
+    };
+    let mut lower: Vec<(f64, f64)> = Vec::new();
+    let mut upper: Vec<(f64, f64)> = Vec::new();
+    let mut out: Vec<(u32, f64)> = Vec::new();
+    let mut points = points.peekable();
+    while let Some(&(line, a, b)) = points.next() {
+        let p = (a, b);
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(p);
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) >= 0.0 {
+            upper.pop();
+        }
+        upper.push(p);
+        if points.peek().is_none_or(|next| next.0 != line) {
+            out.push((line, 0.5 * (shoelace(&lower) - shoelace(&upper)).abs()));
+        }
+    }
+    out
 }
 
 /// `cells` plus their 8-neighbours that belong to `root`.

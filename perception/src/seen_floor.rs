@@ -1,0 +1,250 @@
+//! Floor seen free in one look: the elevation map's cells where the floor showed and nothing stood.
+//!
+//! Prism building needs it to tell two things that make the same L of occupied cells apart: two wall
+//! runs meeting at a corner, seen from inside the corner, and two faces of a cart. Inside the corner
+//! the sensor sees the floor (the triangle between the walls is free); behind the cart's faces the
+//! floor is hidden. So a cell counts as seen free when it holds at least a few floor points (a single
+//! floor-coloured point is no evidence) and no occupied elevation cell: floor seen under a table top
+//! or a chair seat lies below the object and does not make the space free.
+//!
+//! The raster lies on the elevation map's grid, so a cluster's hull (built from the map's cells)
+//! never reaches past it and "free" and "occupied" are judged cell for cell.
+
+use nalgebra::Point2;
+
+use crate::cloud::ColourCloud;
+use crate::elevation::ElevationMap;
+
+/// Cells of an [`ElevationMap`]'s grid where the floor was seen and nothing stood.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeenFloor {
+    origin: Point2<f64>,
+    cell_size: f64,
+    cols: usize,
+    rows: usize,
+    free: Vec<bool>,
+    free_count: usize,
+}
+
+impl SeenFloor {
+    /// No floor seen anywhere on `map`'s grid (every hull is then accepted as it is).
+    pub fn none(map: &ElevationMap) -> Self {
+        let (cols, rows) = map.dims();
+        Self {
+            origin: map.origin(),
+            cell_size: map.cell_size(),
+            cols,
+            rows,
+            free: vec![false; cols * rows],
+            free_count: 0,
+        }
+    }
+
+    /// Bins `floor_points` (map frame; the floor model's floor points of the cloud `map` was built
+    /// from) on `map`'s grid: a cell is seen free when it holds at least `min_points` floor points and
+    /// no cell within `clearance` cells of it (Chebyshev distance) holds any other point. Points off
+    /// the grid or not finite are ignored.
+    ///
+    /// The clearance keeps a compact object's own edge out of the free floor: the floor seen between a
+    /// chair's legs beside an inset seat, or under the seat's edge where the seat showed only one or
+    /// two points per cell, lies next to what was seen of the chair.
+    pub fn build(
+        floor_points: &ColourCloud,
+        map: &ElevationMap,
+        min_points: u32,
+        clearance: u32,
+    ) -> Self {
+        let mut seen = Self::none(map);
+        if seen.free.is_empty() {
+            return seen;
+        }
+        let mut counts = vec![0u32; seen.free.len()];
+        let (ox, oy, cell) = (seen.origin.x, seen.origin.y, seen.cell_size);
+        let (cols, rows) = (seen.cols as f64, seen.rows as f64);
+        for (&x, &y) in floor_points.xs().iter().zip(floor_points.ys()) {
+            let c = ((f64::from(x) - ox) / cell).floor();
+            let r = ((f64::from(y) - oy) / cell).floor();
+            // NaN fails both comparisons and is skipped with the points off the grid.
+            if c >= 0.0 && r >= 0.0 && c < cols && r < rows {
+                let k = r as usize * seen.cols + c as usize;
+                counts[k] = counts[k].saturating_add(1);
+            }
+        }
+        // Cells near anything but floor: every touched cell grown by the clearance.
+        let mut near = vec![false; seen.free.len()];
+        let reach = clearance as usize;
+        for c in map.cells() {
+            let (col, row) = (c.col as usize, c.row as usize);
+            for r in row.saturating_sub(reach)..=(row + reach).min(seen.rows - 1) {
+                let line = r * seen.cols;
+                near[line + col.saturating_sub(reach)..=line + (col + reach).min(seen.cols - 1)]
+                    .fill(true);
+            }
+        }
+        for (k, (&n, &near)) in counts.iter().zip(&near).enumerate() {
+            if n >= min_points.max(1) && !near {
+                seen.free[k] = true;
+                seen.free_count += 1;
+            }
+        }
+        seen
+    }
+
+    /// Number of cells seen free.
+    pub fn free_cells(&self) -> usize {
+        self.free_count
+    }
+
+    /// Area (m²) of the cells seen free whose centres lie inside the convex CCW `polygon` (map frame).
+    /// A degenerate polygon (fewer than three vertices) covers nothing.
+    pub fn free_area_in(&self, polygon: &[Point2<f64>]) -> f64 {
+        self.free_area_inside(polygon, 0.0)
+    }
+
+    /// Area (m²) of the cells seen free whose centres lie at least `margin` (m) inside every edge of
+    /// the convex CCW `polygon`.
+    pub fn free_area_inside(&self, polygon: &[Point2<f64>], margin: f64) -> f64 {
+        if polygon.len() < 3 || self.free_count == 0 {
+            return 0.0;
+        }
+        let (lo, hi) = polygon.iter().fold(
+            (
+                Point2::new(f64::INFINITY, f64::INFINITY),
+                Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+            ),
+            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+        );
+        // Cells whose centre may fall inside the box: centre = origin + (i + ½)·cell.
+        let index_range = |lo: f64, hi: f64, origin: f64, n: usize| {
+            let first = ((lo - origin) / self.cell_size - 0.5).ceil().max(0.0);
+            let last = ((hi - origin) / self.cell_size - 0.5).floor();
+            if !(first.is_finite() && last.is_finite()) || last < first || first >= n as f64 {
+                return 0..0;
+            }
+            first as usize..(last as usize + 1).min(n)
+        };
+        let cols = index_range(lo.x, hi.x, self.origin.x, self.cols);
+        let rows = index_range(lo.y, hi.y, self.origin.y, self.rows);
+        let mut n = 0usize;
+        for row in rows {
+            let y = self.origin.y + (row as f64 + 0.5) * self.cell_size;
+            for col in cols.clone() {
+                if self.free[row * self.cols + col] {
+                    let x = self.origin.x + (col as f64 + 0.5) * self.cell_size;
+                    if inside_convex(polygon, &Point2::new(x, y), margin) {
+                        n += 1;
+                    }
+                }
+            }
+        }
+        n as f64 * self.cell_size * self.cell_size
+    }
+}
+
+/// True when `p` lies at least `margin` inside every edge of the convex CCW polygon (on the boundary
+/// counts as inside for a zero margin).
+fn inside_convex(polygon: &[Point2<f64>], p: &Point2<f64>, margin: f64) -> bool {
+    let n = polygon.len();
+    (0..n).all(|i| {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        let edge = b - a;
+        edge.perp(&(p - a)) >= margin * edge.norm()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cloud::CloudFrame;
+    use crate::elevation::ElevationConfig;
+    use nalgebra::{Isometry3, Point3};
+
+    fn cloud_of(points: impl IntoIterator<Item = [f32; 3]>) -> ColourCloud {
+        let mut c = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        for p in points {
+            c.push(Point3::new(p[0], p[1], p[2]), [150, 150, 140]);
+        }
+        c
+    }
+
+    /// Points on a square lattice of `step` over `[x0, x1) × [y0, y1)` at height `z`.
+    fn lattice(x0: f32, x1: f32, y0: f32, y1: f32, z: f32, step: f32) -> Vec<[f32; 3]> {
+        let (nx, ny) = (
+            ((x1 - x0) / step).round() as usize,
+            ((y1 - y0) / step).round() as usize,
+        );
+        (0..nx * ny)
+            .map(|k| {
+                let (i, j) = (k % nx, k / nx);
+                [
+                    x0 + step * (i as f32 + 0.5),
+                    y0 + step * (j as f32 + 0.5),
+                    z,
+                ]
+            })
+            .collect()
+    }
+
+    /// A 0.4 m table top at 0.7 m over x 0..0.4 and three points at 0.7 m in the cell at (0.78, 0.38),
+    /// with floor seen under the top, over x 0.4..0.8 × y 0.2..0.4 and one lone point at (0.61, 0.11).
+    fn table_and_floor() -> (ElevationMap, ColourCloud) {
+        let top = lattice(0.0, 0.4, 0.0, 0.4, 0.7, 0.01);
+        let corner = [[0.79, 0.39, 0.7]; 3];
+        let obstacles = cloud_of(top.iter().copied().chain(corner));
+        let map = ElevationMap::build(
+            &obstacles,
+            0.0,
+            Point2::origin(),
+            &ElevationConfig::default(),
+        )
+        .expect("valid input");
+        let mut floor = lattice(0.0, 0.4, 0.0, 0.4, 0.0, 0.01);
+        floor.extend(lattice(0.4, 0.8, 0.2, 0.4, 0.0, 0.01));
+        floor.push([0.61, 0.11, 0.0]);
+        (map, cloud_of(floor))
+    }
+
+    fn square(x0: f64, x1: f64, y0: f64, y1: f64) -> Vec<Point2<f64>> {
+        vec![
+            Point2::new(x0, y0),
+            Point2::new(x1, y0),
+            Point2::new(x1, y1),
+            Point2::new(x0, y1),
+        ]
+    }
+
+    #[test]
+    fn floor_under_or_beside_an_object_is_not_free_and_sparse_floor_is_not_evidence() {
+        // Invariant: a cell counts free only with the minimum of floor points and nothing else seen within the clearance: floor under a table top is not free, and with a clearance of one cell neither is the ring of floor cells around anything seen.
+        let (map, floor) = table_and_floor();
+        let cell = 0.04 * 0.04;
+        // No clearance: the 10 × 5 cells of floor beside the table less the corner's cell.
+        let seen = SeenFloor::build(&floor, &map, 3, 0);
+        assert_eq!(seen.free_area_in(&square(0.0, 0.4, 0.0, 0.4)), 0.0);
+        let free = seen.free_area_in(&square(0.4, 0.8, 0.0, 0.4));
+        assert!((free - 49.0 * cell).abs() < 1e-9, "free {free}");
+        assert_eq!(seen.free_cells(), 49);
+        // One cell of clearance: the column beside the table and the 2 × 2 cells by the corner go.
+        let seen = SeenFloor::build(&floor, &map, 3, 1);
+        assert_eq!(seen.free_cells(), 41);
+        // The lone floor point is evidence only when one point is enough.
+        assert_eq!(SeenFloor::build(&floor, &map, 1, 0).free_cells(), 50);
+        assert_eq!(
+            SeenFloor::none(&map).free_area_in(&square(0.4, 0.8, 0.0, 0.4)),
+            0.0
+        );
+    }
+
+    #[test]
+    fn only_cells_the_margin_inside_every_edge_count() {
+        // Invariant: free_area_inside counts the free cells whose centres lie at least the margin inside every edge of the polygon, and a degenerate polygon covers nothing.
+        let (map, floor) = table_and_floor();
+        let seen = SeenFloor::build(&floor, &map, 3, 0);
+        let region = square(0.4, 0.8, 0.0, 0.4);
+        // Centres 0.46..0.74 in x (8 columns) and 0.22..0.34 in y (4 rows) are 5 cm inside.
+        let deep = seen.free_area_inside(&region, 0.05);
+        assert!((deep - 32.0 * 0.04 * 0.04).abs() < 1e-9, "deep {deep}");
+        assert_eq!(seen.free_area_inside(&region, 0.5), 0.0);
+        assert_eq!(seen.free_area_in(&region[..2]), 0.0);
+    }
+}
