@@ -1,7 +1,7 @@
 //! The whole detection: floor → elevation map and the floor seen free → labelling → prisms → id
 //! tracking.
 
-use nalgebra::{Isometry2, Point2};
+use nalgebra::{Isometry2, Point2, Point3};
 
 use crate::cloud::ColourCloud;
 use crate::elevation::{ElevationConfig, ElevationMap};
@@ -125,7 +125,8 @@ pub fn detect_on_floor(
         &map,
         config.elevation.min_points_per_cell,
         config.prism.seen_floor_clearance,
-    );
+    )
+    .seen_from(Point3::from(fused.sensor_pose().translation.vector));
     let clusters = label(&map, &config.segment);
     let mut prisms = build_prisms(&obstacles, &map, &clusters, &seen, &config.prism);
     track_ids_with(previous, &mut prisms, config.track_min_iou);

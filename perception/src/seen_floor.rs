@@ -1,16 +1,21 @@
-//! Floor seen free in one look: the elevation map's cells where the floor showed and nothing stood.
+//! Floor seen free in one look: the elevation map's cells where the floor showed, nothing stood, and
+//! the space above was in view.
 //!
 //! Prism building needs it to tell two things that make the same L of occupied cells apart: two wall
 //! runs meeting at a corner, seen from inside the corner, and two faces of a cart. Inside the corner
 //! the sensor sees the floor (the triangle between the walls is free); behind the cart's faces the
-//! floor is hidden. So a cell counts as seen free when it holds at least a few floor points (a single
-//! floor-coloured point is no evidence) and no occupied elevation cell: floor seen under a table top
-//! or a chair seat lies below the object and does not make the space free.
+//! floor is hidden. So a cell counts as seen free when it holds at least a few floor points, nothing
+//! else was seen in it or near it (floor under a table top is not free), and the sightline from the
+//! sensor to the column above it, up to the height asked about, passes no occupied cell: the floor
+//! under a chair's seat shows below the chair's back, but the seat behind the back is hidden, and
+//! floor seen there says nothing about the seat. A ray to the floor only proves the space it crossed
+//! empty; the column above the floor inside a corner is proved empty by the rays that cross it on
+//! their way to the walls.
 //!
 //! The raster lies on the elevation map's grid, so a cluster's hull (built from the map's cells)
 //! never reaches past it and "free" and "occupied" are judged cell for cell.
 
-use nalgebra::Point2;
+use nalgebra::{Point2, Point3};
 
 use crate::cloud::ColourCloud;
 use crate::elevation::ElevationMap;
@@ -24,6 +29,11 @@ pub struct SeenFloor {
     rows: usize,
     free: Vec<bool>,
     free_count: usize,
+    /// Height range (above the floor) of each occupied cell, `None` elsewhere: the occluders.
+    solid: Vec<Option<(f32, f32)>>,
+    /// The sensor's xy and height above the floor, when known.
+    eye: Option<(Point2<f64>, f64)>,
+    floor_z: f64,
 }
 
 impl SeenFloor {
@@ -37,7 +47,21 @@ impl SeenFloor {
             rows,
             free: vec![false; cols * rows],
             free_count: 0,
+            solid: Vec::new(),
+            eye: None,
+            floor_z: map.floor_z(),
         }
+    }
+
+    /// The same floor, seen from `eye` (the sensor's position in the map frame): a free cell then
+    /// counts only where the sightline to the column above it is clear (see the module doc). An eye
+    /// not above the floor, or not finite, is ignored.
+    pub fn seen_from(mut self, eye: Point3<f64>) -> Self {
+        let height = eye.z - self.floor_z;
+        if height > 0.0 && eye.x.is_finite() && eye.y.is_finite() && height.is_finite() {
+            self.eye = Some((Point2::new(eye.x, eye.y), height));
+        }
+        self
     }
 
     /// Bins `floor_points` (map frame; the floor model's floor points of the cloud `map` was built
@@ -81,6 +105,12 @@ impl SeenFloor {
                     .fill(true);
             }
         }
+        seen.solid = vec![None; seen.free.len()];
+        for (k, c) in map.cells().iter().enumerate() {
+            if map.is_occupied(k) {
+                seen.solid[c.row as usize * seen.cols + c.col as usize] = Some((c.z_min, c.z_max));
+            }
+        }
         for (k, (&n, &near)) in counts.iter().zip(&near).enumerate() {
             if n >= min_points.max(1) && !near {
                 seen.free[k] = true;
@@ -95,15 +125,11 @@ impl SeenFloor {
         self.free_count
     }
 
-    /// Area (m²) of the cells seen free whose centres lie inside the convex CCW `polygon` (map frame).
-    /// A degenerate polygon (fewer than three vertices) covers nothing.
-    pub fn free_area_in(&self, polygon: &[Point2<f64>]) -> f64 {
-        self.free_area_inside(polygon, 0.0)
-    }
-
-    /// Area (m²) of the cells seen free whose centres lie at least `margin` (m) inside every edge of
-    /// the convex CCW `polygon`.
-    pub fn free_area_inside(&self, polygon: &[Point2<f64>], margin: f64) -> f64 {
+    /// Area (m²) of the cells seen free whose centres lie inside the convex CCW `polygon` (map frame)
+    /// and, when the eye is known ([`SeenFloor::seen_from`]), whose column was in view from the floor
+    /// up to `up_to` (m above the floor). A degenerate polygon (fewer than three vertices) covers
+    /// nothing.
+    pub fn free_area_in(&self, polygon: &[Point2<f64>], up_to: f64) -> f64 {
         if polygon.len() < 3 || self.free_count == 0 {
             return 0.0;
         }
@@ -131,7 +157,10 @@ impl SeenFloor {
             for col in cols.clone() {
                 if self.free[row * self.cols + col] {
                     let x = self.origin.x + (col as f64 + 0.5) * self.cell_size;
-                    if inside_convex(polygon, &Point2::new(x, y), margin) {
+                    let centre = Point2::new(x, y);
+                    if inside_convex(polygon, &centre)
+                        && self.column_in_view(&centre, (col, row), up_to)
+                    {
                         n += 1;
                     }
                 }
@@ -141,14 +170,53 @@ impl SeenFloor {
     }
 }
 
-/// True when `p` lies at least `margin` inside every edge of the convex CCW polygon (on the boundary
-/// counts as inside for a zero margin).
-fn inside_convex(polygon: &[Point2<f64>], p: &Point2<f64>, margin: f64) -> bool {
+impl SeenFloor {
+    /// Whether the sightlines from the eye to the column above `centre` (cell `own`), from the floor
+    /// up to `up_to`, pass no occupied cell. An occupied cell spanning heights `[lo, hi]` a fraction
+    /// `t` of the way to the column hides the heights `z` whose ray passes it within that span:
+    /// `e + t·(z − e) ∈ [lo, hi]` with `e` the eye's height. True when the eye is unknown.
+    fn column_in_view(&self, centre: &Point2<f64>, own: (usize, usize), up_to: f64) -> bool {
+        let Some((eye, e)) = self.eye else {
+            return true;
+        };
+        let d = centre - eye;
+        let length = d.norm();
+        // Half-cell steps visit every cell the sightline crosses but for corner clips.
+        let steps = (2.0 * length / self.cell_size).ceil();
+        if !steps.is_finite() || steps < 2.0 {
+            return true;
+        }
+        let steps = steps as usize;
+        for i in 1..steps {
+            let t = i as f64 / steps as f64;
+            let q = eye + d * t;
+            let c = ((q.x - self.origin.x) / self.cell_size).floor();
+            let r = ((q.y - self.origin.y) / self.cell_size).floor();
+            if c < 0.0 || r < 0.0 || c >= self.cols as f64 || r >= self.rows as f64 {
+                continue;
+            }
+            let (c, r) = (c as usize, r as usize);
+            if (c, r) == own {
+                continue;
+            }
+            if let Some((lo, hi)) = self.solid[r * self.cols + c] {
+                let hidden_from = e - (e - f64::from(lo)) / t;
+                let hidden_to = e - (e - f64::from(hi)) / t;
+                if hidden_to > 0.0 && hidden_from < up_to {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+}
+
+/// True when `p` lies inside the convex CCW polygon (boundary included).
+fn inside_convex(polygon: &[Point2<f64>], p: &Point2<f64>) -> bool {
     let n = polygon.len();
     (0..n).all(|i| {
         let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        let edge = b - a;
-        edge.perp(&(p - a)) >= margin * edge.norm()
+        (b - a).perp(&(p - a)) >= 0.0
     })
 }
 
@@ -220,8 +288,8 @@ mod tests {
         let cell = 0.04 * 0.04;
         // No clearance: the 10 × 5 cells of floor beside the table less the corner's cell.
         let seen = SeenFloor::build(&floor, &map, 3, 0);
-        assert_eq!(seen.free_area_in(&square(0.0, 0.4, 0.0, 0.4)), 0.0);
-        let free = seen.free_area_in(&square(0.4, 0.8, 0.0, 0.4));
+        assert_eq!(seen.free_area_in(&square(0.0, 0.4, 0.0, 0.4), 0.0), 0.0);
+        let free = seen.free_area_in(&square(0.4, 0.8, 0.0, 0.4), 0.0);
         assert!((free - 49.0 * cell).abs() < 1e-9, "free {free}");
         assert_eq!(seen.free_cells(), 49);
         // One cell of clearance: the column beside the table and the 2 × 2 cells by the corner go.
@@ -230,21 +298,35 @@ mod tests {
         // The lone floor point is evidence only when one point is enough.
         assert_eq!(SeenFloor::build(&floor, &map, 1, 0).free_cells(), 50);
         assert_eq!(
-            SeenFloor::none(&map).free_area_in(&square(0.4, 0.8, 0.0, 0.4)),
+            SeenFloor::none(&map).free_area_in(&square(0.4, 0.8, 0.0, 0.4), 0.0),
             0.0
         );
     }
 
     #[test]
-    fn only_cells_the_margin_inside_every_edge_count() {
-        // Invariant: free_area_inside counts the free cells whose centres lie at least the margin inside every edge of the polygon, and a degenerate polygon covers nothing.
-        let (map, floor) = table_and_floor();
-        let seen = SeenFloor::build(&floor, &map, 3, 0);
-        let region = square(0.4, 0.8, 0.0, 0.4);
-        // Centres 0.46..0.74 in x (8 columns) and 0.22..0.34 in y (4 rows) are 5 cm inside.
-        let deep = seen.free_area_inside(&region, 0.05);
-        assert!((deep - 32.0 * 0.04 * 0.04).abs() < 1e-9, "deep {deep}");
-        assert_eq!(seen.free_area_inside(&region, 0.5), 0.0);
-        assert_eq!(seen.free_area_in(&region[..2]), 0.0);
+    fn floor_behind_an_occluder_counts_only_where_the_column_above_was_in_view() {
+        // Invariant: with the eye known, floor seen below a panel (a chair's back, 0.45-0.85 m) does not count free up to the panel's height, since the space above it was hidden, while floor in plain view does; without the eye both count.
+        let mut obstacles: Vec<[f32; 3]> = lattice(0.0, 0.04, 0.0, 0.6, 0.45, 0.01);
+        obstacles.extend(lattice(0.0, 0.04, 0.0, 0.6, 0.85, 0.01));
+        // Something far off, so that the grid reaches past the open floor.
+        obstacles.extend([[0.7, 1.1, 0.5]; 3]);
+        let map = ElevationMap::build(
+            &cloud_of(obstacles),
+            0.0,
+            Point2::origin(),
+            &ElevationConfig::default(),
+        )
+        .expect("valid input");
+        let mut floor = lattice(0.12, 0.52, 0.08, 0.52, 0.0, 0.01);
+        floor.extend(lattice(0.12, 0.52, 0.8, 1.0, 0.0, 0.01));
+        let (behind, open) = (square(0.12, 0.52, 0.08, 0.52), square(0.12, 0.52, 0.8, 1.0));
+        let blind = SeenFloor::build(&cloud_of(floor), &map, 3, 1);
+        let cell = 0.04 * 0.04;
+        assert!((blind.free_area_in(&behind, 0.85) - 110.0 * cell).abs() < 1e-9);
+        assert!((blind.free_area_in(&open, 0.85) - 50.0 * cell).abs() < 1e-9);
+        let seen = blind.seen_from(Point3::new(-1.0, 0.3, 1.4));
+        assert_eq!(seen.free_area_in(&behind, 0.85), 0.0);
+        assert!((seen.free_area_in(&open, 0.85) - 50.0 * cell).abs() < 1e-9);
+        assert_eq!(seen.free_area_in(&open[..2], 0.85), 0.0);
     }
 }
