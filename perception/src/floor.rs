@@ -264,35 +264,70 @@ impl FloorModel {
     /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's
     /// frame, in slot order. Each point is classified once.
     pub fn split(&self, cloud: &ColourCloud) -> (ColourCloud, ColourCloud) {
-        let (floor, other): (Vec<_>, Vec<_>) = self.valid_slots(cloud).into_iter().unzip();
+        let is_floor = self.classify(cloud);
+        let floor = slots_where(cloud, |i| is_floor[i]);
+        let other = slots_where(cloud, |i| !is_floor[i]);
         (gather(cloud, &floor), gather(cloud, &other))
     }
 
     /// The valid points of `cloud` that are not floor (in the cloud's frame), in slot order.
     pub fn non_floor(&self, cloud: &ColourCloud) -> ColourCloud {
-        let other: Vec<Vec<usize>> = self
-            .valid_slots(cloud)
-            .into_iter()
-            .map(|(_, other)| other)
-            .collect();
-        gather(cloud, &other)
+        let (zs, cs) = (cloud.zs(), cloud.colours());
+        gather(
+            cloud,
+            &slots_where(cloud, |i| !self.is_floor(f64::from(zs[i]), cs[i])),
+        )
     }
 
-    /// The valid slots of `cloud` as (floor, other) index lists over fixed chunks, classified in
-    /// parallel and kept in chunk order (deterministic).
-    fn valid_slots(&self, cloud: &ColourCloud) -> Vec<(Vec<usize>, Vec<usize>)> {
+    /// [`FloorModel::non_floor`] and [`FloorModel::classify`] at once, each point classified once:
+    /// the obstacles' points, and one floor flag per slot of `cloud` (for the floor seen free,
+    /// without gathering the floor's points).
+    pub fn non_floor_and_flags(&self, cloud: &ColourCloud) -> (ColourCloud, Vec<bool>) {
         const CHUNK: usize = 16_384;
         let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
         let n = cloud.len();
-        (0..n.div_ceil(CHUNK))
+        // One pass: each chunk's floor flags and the slots of its other valid points.
+        let chunks: Vec<(Vec<bool>, Vec<usize>)> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|k| {
-                (k * CHUNK..((k + 1) * CHUNK).min(n))
-                    .filter(|&i| xs[i].is_finite() && ys[i].is_finite() && zs[i].is_finite())
-                    .partition(|&i| self.is_floor(f64::from(zs[i]), cs[i]))
+                let slots = k * CHUNK..((k + 1) * CHUNK).min(n);
+                let mut flags = Vec::with_capacity(slots.len());
+                let mut other = Vec::new();
+                for i in slots {
+                    let valid = xs[i].is_finite() && ys[i].is_finite() && zs[i].is_finite();
+                    let floor = valid && self.is_floor(f64::from(zs[i]), cs[i]);
+                    flags.push(floor);
+                    if valid && !floor {
+                        other.push(i);
+                    }
+                }
+                (flags, other)
             })
-            .collect()
+            .collect();
+        let mut is_floor = Vec::with_capacity(n);
+        let mut other = Vec::with_capacity(chunks.len());
+        for (flags, slots) in chunks {
+            is_floor.extend(flags);
+            other.push(slots);
+        }
+        (gather(cloud, &other), is_floor)
     }
+}
+
+/// The valid slots of `cloud` that satisfy `keep`, as index lists over fixed chunks filtered in
+/// parallel and kept in chunk order (deterministic).
+fn slots_where(cloud: &ColourCloud, keep: impl Fn(usize) -> bool + Sync) -> Vec<Vec<usize>> {
+    const CHUNK: usize = 16_384;
+    let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
+    let n = cloud.len();
+    (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|k| {
+            (k * CHUNK..((k + 1) * CHUNK).min(n))
+                .filter(|&i| xs[i].is_finite() && ys[i].is_finite() && zs[i].is_finite() && keep(i))
+                .collect()
+        })
+        .collect()
 }
 
 /// The points of `cloud` at the slots of `parts` (in order), as an unorganised cloud in its frame.

@@ -117,11 +117,12 @@ pub fn detect_on_floor(
     if fused.valid_count() == 0 {
         return Err(PerceptionError::EmptyCloud);
     }
-    let (floor_points, obstacles) = floor.split(fused);
+    let (obstacles, is_floor) = floor.non_floor_and_flags(fused);
     let centre = Point2::from(base_pose.translation.vector);
     let map = ElevationMap::build(&obstacles, floor.height(), centre, &config.elevation)?;
     let seen = SeenFloor::build(
-        &floor_points,
+        fused,
+        &is_floor,
         &map,
         config.elevation.min_points_per_cell,
         config.prism.seen_floor_clearance,

@@ -599,7 +599,8 @@ mod tests {
         .expect("valid input");
         let floor = cloud_of(floor.iter().map(|&(x, y)| [x, y, 0.0]));
         let config = PrismConfig::default();
-        let seen = SeenFloor::build(&floor, &map, 3, config.seen_floor_clearance)
+        let is_floor = vec![true; floor.len()];
+        let seen = SeenFloor::build(&floor, &is_floor, &map, 3, config.seen_floor_clearance)
             .seen_from(Point3::new(-0.3, 1.0, 1.4));
         let clusters = label(&map, &SegmentConfig::default());
         assert_eq!(clusters.len(), 1, "the L is one cluster");

@@ -16,6 +16,7 @@
 //! never reaches past it and "free" and "occupied" are judged cell for cell.
 
 use nalgebra::{Point2, Point3};
+use rayon::prelude::*;
 
 use crate::cloud::ColourCloud;
 use crate::elevation::ElevationMap;
@@ -64,16 +65,18 @@ impl SeenFloor {
         self
     }
 
-    /// Bins `floor_points` (map frame; the floor model's floor points of the cloud `map` was built
-    /// from) on `map`'s grid: a cell is seen free when it holds at least `min_points` floor points and
-    /// no cell within `clearance` cells of it (Chebyshev distance) holds any other point. Points off
-    /// the grid or not finite are ignored.
+    /// Bins the points of `cloud` flagged in `is_floor` (map frame; the floor model's verdict on the
+    /// cloud `map` was built from, see [`crate::FloorModel::non_floor_and_flags`]) on `map`'s grid: a
+    /// cell is seen free when it holds at least `min_points` floor points and no cell within
+    /// `clearance` cells of it (Chebyshev distance) holds any other point. Points off the grid or not
+    /// finite are ignored, and so are slots past the shorter of the cloud and the flags.
     ///
     /// The clearance keeps a compact object's own edge out of the free floor: the floor seen between a
     /// chair's legs beside an inset seat, or under the seat's edge where the seat showed only one or
     /// two points per cell, lies next to what was seen of the chair.
     pub fn build(
-        floor_points: &ColourCloud,
+        cloud: &ColourCloud,
+        is_floor: &[bool],
         map: &ElevationMap,
         min_points: u32,
         clearance: u32,
@@ -82,18 +85,42 @@ impl SeenFloor {
         if seen.free.is_empty() {
             return seen;
         }
-        let mut counts = vec![0u32; seen.free.len()];
-        let (ox, oy, cell) = (seen.origin.x, seen.origin.y, seen.cell_size);
-        let (cols, rows) = (seen.cols as f64, seen.rows as f64);
-        for (&x, &y) in floor_points.xs().iter().zip(floor_points.ys()) {
-            let c = ((f64::from(x) - ox) / cell).floor();
-            let r = ((f64::from(y) - oy) / cell).floor();
-            // NaN fails both comparisons and is skipped with the points off the grid.
-            if c >= 0.0 && r >= 0.0 && c < cols && r < rows {
-                let k = r as usize * seen.cols + c as usize;
-                counts[k] = counts[k].saturating_add(1);
-            }
-        }
+        // f32 is exact enough to bin a floor point: an error of a micrometre at a cell boundary
+        // moves one point of many into the next cell.
+        let (ox, oy) = (seen.origin.x as f32, seen.origin.y as f32);
+        let per_metre = (1.0 / seen.cell_size) as f32;
+        let (cols, rows, size) = (seen.cols as f32, seen.rows as f32, seen.free.len());
+        let width = seen.cols;
+        let (xs, ys) = (cloud.xs(), cloud.ys());
+        let n = xs.len().min(ys.len()).min(is_floor.len());
+        // Counts per cell, binned in parallel over large chunks and summed: integer sums, so the
+        // result does not depend on the thread count.
+        const CHUNK: usize = 1 << 16;
+        let counts = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|chunk| {
+                let mut counts = vec![0u32; size];
+                let slots = chunk * CHUNK..((chunk + 1) * CHUNK).min(n);
+                let points = xs[slots.clone()].iter().zip(&ys[slots.clone()]);
+                for ((&x, &y), _) in points.zip(&is_floor[slots]).filter(|(_, f)| **f) {
+                    let c = (x - ox) * per_metre;
+                    let r = (y - oy) * per_metre;
+                    // NaN fails both comparisons and is skipped with the points off the grid; on
+                    // the grid the coordinates are not negative, so truncation is the floor.
+                    if c >= 0.0 && r >= 0.0 && c < cols && r < rows {
+                        let k = r as usize * width + c as usize;
+                        counts[k] = counts[k].saturating_add(1);
+                    }
+                }
+                counts
+            })
+            .reduce_with(|mut a, b| {
+                for (x, y) in a.iter_mut().zip(b) {
+                    *x = x.saturating_add(y);
+                }
+                a
+            })
+            .unwrap_or_else(|| vec![0u32; size]);
         // Cells near anything but floor: every touched cell grown by the clearance.
         let mut near = vec![false; seen.free.len()];
         let reach = clearance as usize;
@@ -235,6 +262,11 @@ mod tests {
         c
     }
 
+    /// Every slot of `cloud` flagged floor.
+    fn all(cloud: &ColourCloud) -> Vec<bool> {
+        vec![true; cloud.len()]
+    }
+
     /// Points on a square lattice of `step` over `[x0, x1) × [y0, y1)` at height `z`.
     fn lattice(x0: f32, x1: f32, y0: f32, y1: f32, z: f32, step: f32) -> Vec<[f32; 3]> {
         let (nx, ny) = (
@@ -287,16 +319,19 @@ mod tests {
         let (map, floor) = table_and_floor();
         let cell = 0.04 * 0.04;
         // No clearance: the 10 × 5 cells of floor beside the table less the corner's cell.
-        let seen = SeenFloor::build(&floor, &map, 3, 0);
+        let seen = SeenFloor::build(&floor, &all(&floor), &map, 3, 0);
         assert_eq!(seen.free_area_in(&square(0.0, 0.4, 0.0, 0.4), 0.0), 0.0);
         let free = seen.free_area_in(&square(0.4, 0.8, 0.0, 0.4), 0.0);
         assert!((free - 49.0 * cell).abs() < 1e-9, "free {free}");
         assert_eq!(seen.free_cells(), 49);
         // One cell of clearance: the column beside the table and the 2 × 2 cells by the corner go.
-        let seen = SeenFloor::build(&floor, &map, 3, 1);
+        let seen = SeenFloor::build(&floor, &all(&floor), &map, 3, 1);
         assert_eq!(seen.free_cells(), 41);
         // The lone floor point is evidence only when one point is enough.
-        assert_eq!(SeenFloor::build(&floor, &map, 1, 0).free_cells(), 50);
+        assert_eq!(
+            SeenFloor::build(&floor, &all(&floor), &map, 1, 0).free_cells(),
+            50
+        );
         assert_eq!(
             SeenFloor::none(&map).free_area_in(&square(0.4, 0.8, 0.0, 0.4), 0.0),
             0.0
@@ -320,7 +355,8 @@ mod tests {
         let mut floor = lattice(0.12, 0.52, 0.08, 0.52, 0.0, 0.01);
         floor.extend(lattice(0.12, 0.52, 0.8, 1.0, 0.0, 0.01));
         let (behind, open) = (square(0.12, 0.52, 0.08, 0.52), square(0.12, 0.52, 0.8, 1.0));
-        let blind = SeenFloor::build(&cloud_of(floor), &map, 3, 1);
+        let floor = cloud_of(floor);
+        let blind = SeenFloor::build(&floor, &all(&floor), &map, 3, 1);
         let cell = 0.04 * 0.04;
         assert!((blind.free_area_in(&behind, 0.85) - 110.0 * cell).abs() < 1e-9);
         assert!((blind.free_area_in(&open, 0.85) - 50.0 * cell).abs() < 1e-9);
