@@ -126,10 +126,10 @@ impl SeenFloor {
         let reach = clearance as usize;
         for c in map.cells() {
             let (col, row) = (c.col as usize, c.row as usize);
-            for r in row.saturating_sub(reach)..=(row + reach).min(seen.rows - 1) {
+            let last_col = col.saturating_add(reach).min(seen.cols - 1);
+            for r in row.saturating_sub(reach)..=row.saturating_add(reach).min(seen.rows - 1) {
                 let line = r * seen.cols;
-                near[line + col.saturating_sub(reach)..=line + (col + reach).min(seen.cols - 1)]
-                    .fill(true);
+                near[line + col.saturating_sub(reach)..=line + last_col].fill(true);
             }
         }
         seen.solid = vec![None; seen.free.len()];
