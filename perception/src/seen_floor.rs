@@ -89,7 +89,7 @@ impl SeenFloor {
         // moves one point of many into the next cell.
         let (ox, oy) = (seen.origin.x as f32, seen.origin.y as f32);
         let per_metre = (1.0 / seen.cell_size) as f32;
-        let (cols, rows, size) = (seen.cols as f32, seen.rows as f32, seen.free.len());
+        let (cols, rows, size) = (seen.cols as i64, seen.rows as i64, seen.free.len());
         let width = seen.cols;
         let (xs, ys) = (cloud.xs(), cloud.ys());
         let n = xs.len().min(ys.len()).min(is_floor.len());
@@ -103,11 +103,12 @@ impl SeenFloor {
                 let slots = chunk * CHUNK..((chunk + 1) * CHUNK).min(n);
                 let points = xs[slots.clone()].iter().zip(&ys[slots.clone()]);
                 for ((&x, &y), _) in points.zip(&is_floor[slots]).filter(|(_, f)| **f) {
-                    let c = (x - ox) * per_metre;
-                    let r = (y - oy) * per_metre;
-                    // NaN fails both comparisons and is skipped with the points off the grid; on
-                    // the grid the coordinates are not negative, so truncation is the floor.
-                    if c >= 0.0 && r >= 0.0 && c < cols && r < rows {
+                    // Truncation of the index plus one, less one, is the floor of the index for
+                    // every index above −1, and below −1 it stays negative; NaN truncates to 0 and
+                    // goes to −1, off the grid.
+                    let c = ((x - ox) * per_metre + 1.0) as i64 - 1;
+                    let r = ((y - oy) * per_metre + 1.0) as i64 - 1;
+                    if (0..cols).contains(&c) && (0..rows).contains(&r) {
                         let k = r as usize * width + c as usize;
                         counts[k] = counts[k].saturating_add(1);
                     }
