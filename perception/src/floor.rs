@@ -261,59 +261,94 @@ impl FloorModel {
             .collect()
     }
 
-    /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's frame.
+    /// Splits `cloud`'s valid points into (floor, everything else), both unorganised in the cloud's
+    /// frame, in slot order. Each point is classified once.
     pub fn split(&self, cloud: &ColourCloud) -> (ColourCloud, ColourCloud) {
-        (self.select(cloud, true), self.select(cloud, false))
+        let is_floor = self.classify(cloud);
+        let floor = slots_where(cloud, |i| is_floor[i]);
+        let other = slots_where(cloud, |i| !is_floor[i]);
+        (gather(cloud, &floor), gather(cloud, &other))
     }
 
     /// The valid points of `cloud` that are not floor (in the cloud's frame), in slot order.
     pub fn non_floor(&self, cloud: &ColourCloud) -> ColourCloud {
-        self.select(cloud, false)
+        let (zs, cs) = (cloud.zs(), cloud.colours());
+        gather(
+            cloud,
+            &slots_where(cloud, |i| !self.is_floor(f64::from(zs[i]), cs[i])),
+        )
     }
 
-    /// The valid points whose floor flag equals `floor`, filtered in parallel over fixed chunks and
-    /// joined in order (deterministic).
-    fn select(&self, cloud: &ColourCloud, floor: bool) -> ColourCloud {
+    /// [`FloorModel::non_floor`] and [`FloorModel::classify`] at once, each point classified once:
+    /// the obstacles' points, and one floor flag per slot of `cloud` (for the floor seen free,
+    /// without gathering the floor's points).
+    pub fn non_floor_and_flags(&self, cloud: &ColourCloud) -> (ColourCloud, Vec<bool>) {
         const CHUNK: usize = 16_384;
         let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
         let n = cloud.len();
-        let parts: Vec<Vec<usize>> = (0..n.div_ceil(CHUNK))
+        // One pass: each chunk's floor flags and the slots of its other valid points.
+        let chunks: Vec<(Vec<bool>, Vec<usize>)> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|k| {
-                (k * CHUNK..((k + 1) * CHUNK).min(n))
-                    .filter(|&i| {
-                        xs[i].is_finite()
-                            && ys[i].is_finite()
-                            && zs[i].is_finite()
-                            && self.is_floor(f64::from(zs[i]), cs[i]) == floor
-                    })
-                    .collect()
+                let slots = k * CHUNK..((k + 1) * CHUNK).min(n);
+                let mut flags = Vec::with_capacity(slots.len());
+                let mut other = Vec::new();
+                for i in slots {
+                    let valid = xs[i].is_finite() && ys[i].is_finite() && zs[i].is_finite();
+                    let floor = valid && self.is_floor(f64::from(zs[i]), cs[i]);
+                    flags.push(floor);
+                    if valid && !floor {
+                        other.push(i);
+                    }
+                }
+                (flags, other)
             })
             .collect();
-        let total: usize = parts.iter().map(Vec::len).sum();
-        let (mut x, mut y, mut z, mut rgb) = (
-            Vec::with_capacity(total),
-            Vec::with_capacity(total),
-            Vec::with_capacity(total),
-            Vec::with_capacity(total),
-        );
-        for &i in parts.iter().flatten() {
-            x.push(xs[i]);
-            y.push(ys[i]);
-            z.push(zs[i]);
-            rgb.push(cs[i]);
+        let mut is_floor = Vec::with_capacity(n);
+        let mut other = Vec::with_capacity(chunks.len());
+        for (flags, slots) in chunks {
+            is_floor.extend(flags);
+            other.push(slots);
         }
-        ColourCloud::from_arrays(
-            x,
-            y,
-            z,
-            rgb,
-            cloud.frame(),
-            *cloud.sensor_pose(),
-            cloud.stamp(),
-        )
-        .unwrap_or_else(|| ColourCloud::empty(cloud.frame(), *cloud.sensor_pose(), cloud.stamp()))
+        (gather(cloud, &other), is_floor)
     }
+}
+
+/// The valid slots of `cloud` that satisfy `keep`, as index lists over fixed chunks filtered in
+/// parallel and kept in chunk order (deterministic).
+fn slots_where(cloud: &ColourCloud, keep: impl Fn(usize) -> bool + Sync) -> Vec<Vec<usize>> {
+    const CHUNK: usize = 16_384;
+    let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
+    let n = cloud.len();
+    (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|k| {
+            (k * CHUNK..((k + 1) * CHUNK).min(n))
+                .filter(|&i| xs[i].is_finite() && ys[i].is_finite() && zs[i].is_finite() && keep(i))
+                .collect()
+        })
+        .collect()
+}
+
+/// The points of `cloud` at the slots of `parts` (in order), as an unorganised cloud in its frame.
+fn gather(cloud: &ColourCloud, parts: &[Vec<usize>]) -> ColourCloud {
+    let (xs, ys, zs, cs) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
+    let total: usize = parts.iter().map(Vec::len).sum();
+    let (mut x, mut y, mut z, mut rgb) = (
+        Vec::with_capacity(total),
+        Vec::with_capacity(total),
+        Vec::with_capacity(total),
+        Vec::with_capacity(total),
+    );
+    for &i in parts.iter().flatten() {
+        x.push(xs[i]);
+        y.push(ys[i]);
+        z.push(zs[i]);
+        rgb.push(cs[i]);
+    }
+    let (frame, pose, stamp) = (cloud.frame(), *cloud.sensor_pose(), cloud.stamp());
+    ColourCloud::from_arrays(x, y, z, rgb, frame, pose, stamp)
+        .unwrap_or_else(|| ColourCloud::empty(frame, pose, stamp))
 }
 
 /// The non-floor points of a map-frame cloud (valid points only).

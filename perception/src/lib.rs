@@ -19,6 +19,7 @@ pub mod lookaround;
 pub mod pipeline;
 pub mod prism;
 pub mod prisms;
+pub mod seen_floor;
 pub mod segment;
 
 pub use cloud::{CloudError, CloudFrame, ColourCloud, Rgb};
@@ -32,4 +33,5 @@ pub use pipeline::{
 };
 pub use prism::{ObjectId, Prism, track_ids};
 pub use prisms::{PrismConfig, build_prisms};
+pub use seen_floor::SeenFloor;
 pub use segment::{Cluster, Connectivity, SegmentConfig, label};

@@ -1,6 +1,7 @@
-//! The whole detection: floor → elevation map → labelling → prisms → id tracking.
+//! The whole detection: floor → elevation map and the floor seen free → labelling → prisms → id
+//! tracking.
 
-use nalgebra::{Isometry2, Point2};
+use nalgebra::{Isometry2, Point2, Point3};
 
 use crate::cloud::ColourCloud;
 use crate::elevation::{ElevationConfig, ElevationMap};
@@ -9,6 +10,7 @@ use crate::floor::{FloorConfig, FloorModel};
 use crate::lookaround::{LookAroundConfig, fuse};
 use crate::prism::{Prism, TRACK_MIN_IOU, track_ids_with};
 use crate::prisms::{PrismConfig, build_prisms};
+use crate::seen_floor::SeenFloor;
 use crate::segment::{SegmentConfig, label};
 
 /// Every stage's parameters (each with documented defaults).
@@ -115,11 +117,19 @@ pub fn detect_on_floor(
     if fused.valid_count() == 0 {
         return Err(PerceptionError::EmptyCloud);
     }
-    let obstacles = floor.non_floor(fused);
+    let (obstacles, is_floor) = floor.non_floor_and_flags(fused);
     let centre = Point2::from(base_pose.translation.vector);
     let map = ElevationMap::build(&obstacles, floor.height(), centre, &config.elevation)?;
+    let seen = SeenFloor::build(
+        fused,
+        &is_floor,
+        &map,
+        config.elevation.min_points_per_cell,
+        config.prism.seen_floor_clearance,
+    )
+    .seen_from(Point3::from(fused.sensor_pose().translation.vector));
     let clusters = label(&map, &config.segment);
-    let mut prisms = build_prisms(&obstacles, &map, &clusters, &config.prism);
+    let mut prisms = build_prisms(&obstacles, &map, &clusters, &seen, &config.prism);
     track_ids_with(previous, &mut prisms, config.track_min_iou);
     Ok(Detection { floor, prisms })
 }
