@@ -13,8 +13,8 @@
 //! plus a cell diagonal and from `r_out` less one (the walk jumps in between): a cell crossed only
 //! in between lies wholly inside the annulus.
 //!
-//! A 361-beam scan at 0.5° is that dense out to 5.7 m: about 60 % of a 180° scan's steps in an
-//! office lie there. The fan is cut into parts of under 120°, each with its own outer radius, so
+//! A 361-beam scan at 0.5° is that dense out to 5.7 m: about three quarters of a 180° scan's
+//! steps in an office lie there. The fan is cut into parts of under 120°, each with its own outer radius, so
 //! that "overlaps the part" is three half-plane tests per cell (in front of the part, past its
 //! first bearing, short of its last), each linear along a row.
 //!
@@ -23,7 +23,8 @@
 //! chair 4.7 m away shortens the beams around it, not a whole part's). A part costs a fill of
 //! every row it reaches, so a fine part is only filled where it reaches farther than the coarse
 //! parts it overlaps, and only in the rows it reaches from there out. Each beam skips as far as
-//! the fill reaches along it: on the office scan, 23 800 steps become about 16 700. Every filled
+//! the fill reaches along it: on the office scan (session 7's count), 62 300 steps become 16 200,
+//! in 480 filled rows. Every filled
 //! cell lies in a part whose own bound holds for it, so the union is exact too.
 
 use std::hint::select_unpredictable;
