@@ -14,18 +14,18 @@
 //! in between lies wholly inside the annulus.
 //!
 //! A 361-beam scan at 0.5° is that dense out to 5.7 m: about three quarters of a 180° scan's
-//! steps in an office lie there. The fan is cut into parts of under 120°, each with its own outer radius, so
-//! that "overlaps the part" is three half-plane tests per cell (in front of the part, past its
-//! first bearing, short of its last), each linear along a row.
+//! steps in an office lie there. The fan is cut into parts of under 120°, each with its own outer
+//! radius, so that "overlaps the part" is three half-plane tests per cell (in front of the part,
+//! past its first bearing, short of its last), each linear along a row.
 //!
 //! Two cuts of the fan: coarse parts, as wide and as even as 120° allows (a 180° scan: two of
 //! 90°), and fine parts, cut also where the bound the near returns put on the radius changes (a
 //! chair 4.7 m away shortens the beams around it, not a whole part's). A part costs a fill of
 //! every row it reaches, so a fine part is only filled where it reaches farther than the coarse
 //! parts it overlaps, and only in the rows it reaches from there out. Each beam skips as far as
-//! the fill reaches along it: on the office scan (session 7's count), 62 300 steps become 16 200,
-//! in 480 filled rows. Every filled
-//! cell lies in a part whose own bound holds for it, so the union is exact too.
+//! the fill reaches along it: on the office scan, 62 300 steps become 16 200, and the fill
+//! covers 480 rows (counted in session 7). Every filled cell lies in a part whose own bound holds
+//! for it, so the union is exact too.
 
 use std::hint::select_unpredictable;
 
