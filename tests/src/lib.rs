@@ -5,8 +5,11 @@
 pub mod hallway;
 pub mod truth;
 
+use nalgebra::Isometry2;
 use nudge_executive::record::Observer;
+use nudge_executive::robot::{ActionStatus, Base, Clock, Head, RangeCamera};
 use nudge_executive::{CandidatePolicy, RunReport};
+use nudge_perception::{ColourCloud, PerceptionConfig};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::scenario::Scenario;
 
@@ -33,4 +36,19 @@ pub fn run<O: Observer>(
 ) -> anyhow::Result<(RunReport, SimRobot)> {
     let (report, robot, _) = nudge_sim::run::run(scenario, seed, policy, observer)?;
     Ok((report, robot))
+}
+
+/// The clouds of one look-around (the default perception config's views) from where `robot`
+/// stands, and its base pose.
+pub fn look_around(robot: &mut SimRobot) -> anyhow::Result<(Vec<ColourCloud>, Isometry2<f64>)> {
+    let config = PerceptionConfig::default();
+    let mut clouds = Vec::new();
+    for view in config.look_around.views() {
+        robot.start_point_head(view.pan_rad(), view.tilt_rad())?;
+        while robot.head_status()? == ActionStatus::Running {
+            robot.advance(0.05)?;
+        }
+        clouds.push(robot.capture()?);
+    }
+    Ok((clouds, robot.base_pose()?.value))
 }

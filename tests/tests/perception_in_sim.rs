@@ -2,28 +2,9 @@
 //! of the paper's room from the start pose.
 
 use nalgebra::Point2;
-use nudge_executive::robot::{ActionStatus, Base, Clock, Head, RangeCamera};
 use nudge_perception::prism::convex_iou;
 use nudge_perception::{PerceptionConfig, Prism, detect_from_views};
 use nudge_sim::adapter::SimRobot;
-
-/// The 15 clouds of one look-around from where the robot stands, and the robot's pose.
-fn look_around(
-    robot: &mut SimRobot,
-) -> (Vec<nudge_perception::ColourCloud>, nalgebra::Isometry2<f64>) {
-    let config = PerceptionConfig::default();
-    let mut clouds = Vec::new();
-    for view in config.look_around.views() {
-        robot
-            .start_point_head(view.pan_rad(), view.tilt_rad())
-            .expect("head");
-        while robot.head_status().expect("status") == ActionStatus::Running {
-            robot.advance(0.05).expect("advance");
-        }
-        clouds.push(robot.capture().expect("capture"));
-    }
-    (clouds, robot.base_pose().expect("pose").value)
-}
 
 fn centroid(poly: &[Point2<f64>]) -> Point2<f64> {
     let sum = poly
@@ -47,7 +28,7 @@ const SEEDS: u64 = 5;
 
 fn check_one_look_around(scenario: &nudge_sim::scenario::Scenario, seed: u64) {
     let mut robot = SimRobot::new(scenario, seed).expect("world");
-    let (clouds, base) = look_around(&mut robot);
+    let (clouds, base) = nudge_tests::look_around(&mut robot).expect("look-around");
     let prisms: Vec<Prism> = detect_from_views(&clouds, &base, &PerceptionConfig::default(), &[])
         .expect("detection")
         .prisms;

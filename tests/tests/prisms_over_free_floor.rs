@@ -2,28 +2,11 @@
 //! is free. A wall corner seen from inside the room used to be one convex prism, a triangle over the
 //! free floor between the two walls (0.09-0.17 m² of it in these looks).
 
-use nalgebra::{Isometry2, Point2};
-use nudge_executive::robot::{ActionStatus, Base, Clock, Head, RangeCamera};
+use nalgebra::Point2;
 use nudge_perception::prism::convex_iou;
-use nudge_perception::{ColourCloud, PerceptionConfig, Prism, detect_from_views};
+use nudge_perception::{PerceptionConfig, Prism, detect_from_views};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::scenario::Scenario;
-
-/// The 15 clouds of one look-around from where the robot stands, and the robot's pose.
-fn look_around(robot: &mut SimRobot) -> (Vec<ColourCloud>, Isometry2<f64>) {
-    let config = PerceptionConfig::default();
-    let mut clouds = Vec::new();
-    for view in config.look_around.views() {
-        robot
-            .start_point_head(view.pan_rad(), view.tilt_rad())
-            .expect("head");
-        while robot.head_status().expect("status") == ActionStatus::Running {
-            robot.advance(0.05).expect("advance");
-        }
-        clouds.push(robot.capture().expect("capture"));
-    }
-    (clouds, robot.base_pose().expect("pose").value)
-}
 
 /// The prisms of one look-around by a robot standing at `pose` (x, y, yaw in degrees) in
 /// `scenario`, its actors left out (ground truth is the objects alone).
@@ -32,7 +15,7 @@ fn prisms_from(scenario: &Scenario, pose: [f64; 3], seed: u64) -> Vec<Prism> {
     scenario.actors.clear();
     scenario.robot.start = pose;
     let mut robot = SimRobot::new(&scenario, seed).expect("world");
-    let (clouds, base) = look_around(&mut robot);
+    let (clouds, base) = nudge_tests::look_around(&mut robot).expect("look-around");
     detect_from_views(&clouds, &base, &PerceptionConfig::default(), &[])
         .expect("detection")
         .prisms
