@@ -1,5 +1,6 @@
 //! One physics step of the paper's room: a coarse 10 ms step while the robot walks, a fine 1 ms step
-//! while the hand pushes chair-1 (the wrist sensor's rate), and one idle second.
+//! while the hand pushes chair-1 (the wrist sensor's rate), a 10 ms step of a steady clearing push
+//! (ten 1 ms solver substeps), and one idle second.
 //!
 //! Each scene is rebuilt (untimed) before its action would end, so every timed step does real work.
 //! The last benchmark is a scripted version of the paper's whole run without range frames: look
@@ -52,6 +53,39 @@ fn pushing() -> SimRobot {
     };
     r.start_guarded_move(push).expect("push");
     r.advance(3.0).expect("reach the chair");
+    r
+}
+
+/// The robot behind chair-1 pushing it steadily as a clearing push does (2 cm/s, 30 N guard), past
+/// the first contact's 0.2 s: the world steps it in 10 ms steps (about 14 s of push left).
+fn clearing() -> SimRobot {
+    let mut r = robot();
+    r.start_walk(&[
+        Point2::new(1.5, 0.6),
+        Point2::new(3.1, 0.6),
+        Point2::new(3.1, 0.8),
+    ])
+    .expect("walk");
+    r.advance(25.0).expect("walk");
+    r.start_turn(0.0).expect("turn");
+    r.advance(5.0).expect("turn");
+    r.tare().expect("tare");
+    let push = GuardedMove {
+        from: Point3::new(0.4, 0.0, 0.43),
+        to: Point3::new(0.8, 0.0, 0.43),
+        speed: 0.02,
+        force_limit: 30.0,
+    };
+    r.start_guarded_move(push).expect("push");
+    r.advance(4.0).expect("reach the chair and press");
+    let (steps, fine) = (r.world().steps(), r.world().fine_steps());
+    r.advance(0.01).expect("one step");
+    assert_eq!(
+        (r.world().steps() - steps, r.world().fine_steps() - fine),
+        (1, 0),
+        "a steady push takes one 10 ms step"
+    );
+    assert_eq!(r.hand_status().expect("hand"), ActionStatus::Running);
     r
 }
 
@@ -152,6 +186,10 @@ fn bench(c: &mut Criterion) {
     c.bench_function("fine step (1 ms), hand pushing chair-1", |b| {
         b.iter_custom(|n| timed_steps(n, 0.001, 3500, pushing))
     });
+    c.bench_function(
+        "steady push step (10 ms, ten 1 ms substeps), hand clearing chair-1",
+        |b| b.iter_custom(|n| timed_steps(n, 0.010, 1000, clearing)),
+    );
     c.bench_function("idle second (everything asleep)", |b| {
         let mut idle = robot();
         idle.advance(5.0).expect("settle");

@@ -113,6 +113,14 @@ impl Arm {
         matches!(self.motion, Motion::Guarded(_))
     }
 
+    /// The guarded line under way, once the hand is on it: its force limit and its speed (m/s).
+    pub fn guarded_line(&self) -> Option<(f64, f64)> {
+        match &self.motion {
+            Motion::Guarded(m) => Some((m.force_limit, m.speed)),
+            _ => None,
+        }
+    }
+
     /// Ends a guarded move at the force limit: the wrist stays where it is now.
     pub fn force_limit_reached(&mut self, wrench: Stamped<Wrench>, at: Point3<f64>) {
         self.motion = Motion::Hold;

@@ -4,6 +4,12 @@
 //! Stepping: 1 ms steps while the hand touches something, or is on a guarded line within
 //! [`NEAR_CONTACT`] of something it could touch (the guarded-move check runs every step, and every
 //! contact is resolved at the wrist sensor's 1 kHz); 10 ms steps otherwise, aligned to a 10 ms grid.
+//! A steady push far below its guard's limit is the exception (see `World::steady_push`): once the
+//! hand has pressed with at least [`PRESSING_FORCE`] for [`STEADY_PRESS_US`] and the force lies
+//! further below the limit than a 10 ms step can raise it (at least [`COARSE_PUSH_MARGIN`]), the
+//! guard cannot be skipped, and a long clearing push is stepped in 10 ms steps made of ten fine
+//! steps' solver substeps (same contact and wrist dynamics; collision detection, the guard and the
+//! sensor's fresh value every 10 ms) until the force comes near its limit again.
 //! A guarded line's first centimetres through free air are stepped like the unguarded move to its
 //! start: nothing can touch the hand within a coarse step there, so no contact force is skipped.
 //! When no body is commanded to move (the head has none) and every dynamic body sleeps, time passes
@@ -21,7 +27,8 @@ use rapier3d::parry::query;
 use rapier3d::prelude::*;
 
 use crate::actors::Actor;
-use crate::humanoid::Humanoid;
+use crate::humanoid::walk::Walk;
+use crate::humanoid::{Humanoid, WRIST_STIFFNESS};
 use crate::scenario::{ObjectSpec, Scenario};
 use crate::sensors::wrist_ft::{WristFt, WristFtConfig, WristFtError, wrench_on_wrist};
 use crate::surface::Surface;
@@ -46,9 +53,32 @@ pub const COARSE_STEP_US: u64 = 10_000;
 pub const NEAR_CONTACT: f32 = 0.01;
 /// How far a contact pair may move before rapier recomputes its contact points (m).
 pub const CONTACT_RECYCLE_DISTANCE: f32 = 0.002;
+/// Tared wrist force (N) from which a touch counts as pressing: the executive's contact threshold.
+/// A hand resting against something at the noise's level is not yet pushing it.
+pub const PRESSING_FORCE: f64 = 2.0;
+/// How long the hand must have pressed, without a break, before a push counts as steady (µs): the
+/// impact has rung out (the wrist is critically damped, its period 31 ms) and a movable object slides.
+pub const STEADY_PRESS_US: u64 = 200_000;
+/// The least distance (N) between the tared force and the guard's limit for a steady push to be
+/// stepped coarsely. A jam raises the force by at most stiffness × speed × step, 4 N in a 10 ms step at
+/// the executive's 2 cm/s, so the step that follows is fine again before the limit can be reached; a
+/// chair's push test (15–19 N against 20 N) never qualifies, a clearing push (15 N against 30 N) does.
+pub const COARSE_PUSH_MARGIN: f64 = 10.0;
 /// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
 /// presses on something that does not give (three times the paper's 20 N push limit).
 pub const HAND_OVERLOAD: f64 = 60.0;
+
+/// How the next physics step is taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stepping {
+    /// [`FINE_STEP_US`] long, one solver substep.
+    Fine,
+    /// Up to [`COARSE_STEP_US`] long, in fine steps' solver substeps: a steady push (see
+    /// `World::steady_push`).
+    Pressing,
+    /// Up to [`COARSE_STEP_US`] long, [`COARSE_SUBSTEPS`] substeps.
+    Coarse,
+}
 
 /// Why a world could not be built or advanced.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
@@ -93,6 +123,9 @@ pub struct World {
     wrist_ft: WristFt,
     /// The true wrench on the wrist during the last physics step.
     wrist_truth: Wrench,
+    /// When the hand's current unbroken press began (µs): it touches something and the tared force
+    /// is at least [`PRESSING_FORCE`].
+    pressed_since_us: Option<u64>,
     time_us: u64,
     seed: u64,
     steps: u64,
@@ -163,6 +196,7 @@ impl World {
             humanoid,
             wrist_ft,
             wrist_truth: Wrench::default(),
+            pressed_since_us: None,
             time_us: 0,
             seed,
             steps: 0,
@@ -308,27 +342,66 @@ impl World {
         }
         let target = self.time_us + (dt * 1.0e6).round() as u64;
         while self.time_us < target {
-            let grid = if self.needs_fine_steps() {
-                FINE_STEP_US
-            } else {
-                COARSE_STEP_US
+            let stepping = self.stepping();
+            let grid = match stepping {
+                Stepping::Fine => FINE_STEP_US,
+                Stepping::Coarse | Stepping::Pressing => COARSE_STEP_US,
             };
             let h = (grid - self.time_us % grid).min(target - self.time_us);
-            self.step(h);
+            self.step(h, stepping);
         }
         Ok(())
     }
 
-    /// Whether the hand touches something, or is on a guarded line close to something: then the
-    /// force changes fast and the guard and the sensor need every millisecond.
-    fn needs_fine_steps(&self) -> bool {
+    /// How to step next: finely while the hand touches something, or is on a guarded line close to
+    /// something (then the force changes fast and the guard and the sensor need every millisecond),
+    /// a steady push far below its limit excepted; coarsely otherwise. Also keeps track of how long
+    /// the hand has pressed.
+    fn stepping(&mut self) -> Stepping {
         let hand = self.humanoid.parts().hand_collider;
         let touching = self
             .physics
             .narrow_phase
             .contact_pairs_with(hand)
             .any(|p| p.has_any_active_contact());
-        touching || (self.humanoid.arm().on_guarded_line() && self.hand_near_something(hand))
+        let pressing = touching
+            && self
+                .wrist_ft
+                .latest()
+                .is_some_and(|r| r.value.force_norm() >= PRESSING_FORCE);
+        self.pressed_since_us = pressing.then(|| self.pressed_since_us.unwrap_or(self.time_us));
+        if touching {
+            if self.steady_push() {
+                Stepping::Pressing
+            } else {
+                Stepping::Fine
+            }
+        } else if self.humanoid.arm().on_guarded_line() && self.hand_near_something(hand) {
+            Stepping::Fine
+        } else {
+            Stepping::Coarse
+        }
+    }
+
+    /// Whether the hand, touching something, pushes steadily along a guarded line with the force
+    /// so far below the limit that a coarse step cannot carry it past: the press has lasted
+    /// [`STEADY_PRESS_US`], the base stands, and the latest tared force lies at least
+    /// [`COARSE_PUSH_MARGIN`], and twice what the wrist's stiffness can add at the line's speed in
+    /// one coarse step, below the guard's limit.
+    fn steady_push(&self) -> bool {
+        let Some((limit, speed)) = self.humanoid.arm().guarded_line() else {
+            return false;
+        };
+        let held = self
+            .pressed_since_us
+            .is_some_and(|since| self.time_us - since >= STEADY_PRESS_US);
+        let standing = matches!(self.humanoid.walk(), Walk::Idle(_));
+        let Some(reading) = self.wrist_ft.latest() else {
+            return false;
+        };
+        let rise = WRIST_STIFFNESS * speed * COARSE_STEP_US as f64 * 1.0e-6;
+        let margin = COARSE_PUSH_MARGIN.max(2.0 * rise);
+        held && standing && reading.value.force_norm() + margin <= limit
     }
 
     /// Whether anything the hand can touch lies within [`NEAR_CONTACT`] of it: the broad phase's
@@ -356,7 +429,7 @@ impl World {
     }
 
     /// One physics step of `h_us` microseconds.
-    fn step(&mut self, h_us: u64) {
+    fn step(&mut self, h_us: u64, stepping: Stepping) {
         let h = h_us as f64 * 1.0e-6;
         let t1 = self.time_us + h_us;
         for actor in &mut self.actors {
@@ -371,24 +444,25 @@ impl World {
             .any(|b| self.physics.bodies.get(b).is_some_and(|b| b.is_dynamic()));
         if commanded || awake {
             self.physics.integration_parameters.dt = h as f32;
-            self.physics.integration_parameters.num_solver_iterations = if h_us <= FINE_STEP_US {
-                FINE_SUBSTEPS
-            } else {
-                COARSE_SUBSTEPS
+            let (substeps, pgs_iterations) = match stepping {
+                // A fine step's solver substep, repeated: the contact's stiffness and the wrist's
+                // reading stay those of fine steps (a coarse step's longer substeps let a jammed chair
+                // sink further into what jams it, and the first fine steps then read a spike).
+                Stepping::Pressing => (
+                    h_us.div_ceil(FINE_STEP_US) as usize * FINE_SUBSTEPS,
+                    FINE_PGS_ITERATIONS,
+                ),
+                _ if h_us <= FINE_STEP_US => (FINE_SUBSTEPS, FINE_PGS_ITERATIONS),
+                _ => (COARSE_SUBSTEPS, 1),
             };
-            self.physics
-                .integration_parameters
-                .num_internal_pgs_iterations = if h_us <= FINE_STEP_US {
-                FINE_PGS_ITERATIONS
-            } else {
-                1
-            };
+            let params = &mut self.physics.integration_parameters;
+            params.num_solver_iterations = substeps;
+            params.num_internal_pgs_iterations = pgs_iterations;
             self.physics.step();
             self.steps += 1;
             if h_us <= FINE_STEP_US {
                 self.fine_steps += 1;
             }
-            let substeps = self.physics.integration_parameters.num_solver_iterations;
             if let Some(joint) = self.physics.impulse_joints.get(self.humanoid.parts().joint) {
                 self.wrist_truth = wrench_on_wrist(joint, substeps, h);
             }
