@@ -33,8 +33,8 @@ fn walking() -> SimRobot {
     r
 }
 
-/// The robot behind chair-1 with its hand pushing it (about 4 s of push left).
-fn pushing() -> SimRobot {
+/// The robot walked to stand behind chair-1, facing it, its hand not yet out.
+fn behind_chair() -> SimRobot {
     let mut r = robot();
     r.start_walk(&[
         Point2::new(1.5, 0.6),
@@ -45,6 +45,12 @@ fn pushing() -> SimRobot {
     r.advance(25.0).expect("walk");
     r.start_turn(0.0).expect("turn");
     r.advance(5.0).expect("turn");
+    r
+}
+
+/// The robot behind chair-1 with its hand pushing it (about 4 s of push left).
+fn pushing() -> SimRobot {
+    let mut r = behind_chair();
     let push = GuardedMove {
         from: Point3::new(0.4, 0.0, 0.43),
         to: Point3::new(0.8, 0.0, 0.43),
@@ -59,16 +65,7 @@ fn pushing() -> SimRobot {
 /// The robot behind chair-1 pushing it steadily as a clearing push does (2 cm/s, 30 N guard), past
 /// the first contact's 0.2 s: the world steps it in 10 ms steps (about 14 s of push left).
 fn clearing() -> SimRobot {
-    let mut r = robot();
-    r.start_walk(&[
-        Point2::new(1.5, 0.6),
-        Point2::new(3.1, 0.6),
-        Point2::new(3.1, 0.8),
-    ])
-    .expect("walk");
-    r.advance(25.0).expect("walk");
-    r.start_turn(0.0).expect("turn");
-    r.advance(5.0).expect("turn");
+    let mut r = behind_chair();
     r.tare().expect("tare");
     let push = GuardedMove {
         from: Point3::new(0.4, 0.0, 0.43),

@@ -99,10 +99,7 @@ fn sliding_chair_reads_its_friction_force() {
 #[test]
 fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
     // Every quarter second of a chair sliding under the hand at 2 cm/s reads within 1 N of μ m g: no stale contact points (rapier's contact recycling) hold the force above friction once the chair slides.
-    let s = robot_and(
-        "name = \"chair\"\nkind = \"chair\"\nyaw = 180.0\nposition = [1.8, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 4.0\nfriction = 0.4\ncolour = [40, 120, 200]",
-    );
-    let mut robot = SimRobot::new(&s, 3).expect("world");
+    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
     let motion = GuardedMove {
         from: Point3::new(0.4, 0.0, 0.43),
         to: Point3::new(0.7, 0.0, 0.43),
@@ -113,23 +110,8 @@ fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
     assert_eq!(outcome, HandOutcome::Reached);
     let contact = trace.iter().find(|s| s.force > 2.0).expect("contact").t;
     let stop = trace.last().expect("trace").t;
-    let sliding: Vec<f64> = trace
-        .iter()
-        .filter(|s| s.t > contact + 0.5 && s.t < stop - 0.1)
-        .map(|s| s.force)
-        .collect();
-    let mu_m_g = 0.4 * 4.0 * 9.81;
-    let windows: Vec<f64> = sliding
-        .chunks(250)
-        .map(|w| w.iter().sum::<f64>() / w.len() as f64)
-        .collect();
-    assert!(windows.len() >= 20, "only {} windows", windows.len());
-    for (k, mean) in windows.iter().enumerate() {
-        assert!(
-            (mean - mu_m_g).abs() < 1.0,
-            "window {k}: {mean:.2} N vs μmg {mu_m_g:.2} N"
-        );
-    }
+    let forces: Vec<(f64, f64)> = trace.iter().map(|s| (s.t, s.force)).collect();
+    assert_slides_at(&forces, contact, stop, TEST_CHAIR_MU_M_G);
 }
 
 #[test]
@@ -155,14 +137,7 @@ fn fixed_table_stops_the_push_at_the_limit() {
     let first = trace.iter().find(|s| s.force > 1.0).expect("contact");
     let overshoot = at.x - first.hand_x;
     let peak = trace.iter().map(|s| s.force).fold(0.0, f64::max);
-    // Hold the hand there a while: the force must not keep climbing.
-    robot.advance(0.5).expect("hold");
-    let held_peak = robot
-        .drain_wrenches()
-        .expect("drain")
-        .iter()
-        .map(|w| w.value.force_norm())
-        .fold(peak, f64::max);
+    let held_peak = peak_while_holding(&mut robot, peak);
     println!(
         "table push: hand moved {:.2} mm past first contact; peak {peak:.2} N, peak while holding {held_peak:.2} N",
         overshoot * 1e3

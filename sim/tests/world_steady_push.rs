@@ -11,11 +11,6 @@ use world_common::*;
 const TICK: f64 = 0.05;
 /// The executive's push speed (m/s).
 const PUSH_SPEED: f64 = 0.02;
-/// μ m g of the test chair (N).
-const MU_M_G: f64 = 0.4 * 4.0 * 9.81;
-
-/// A 4 kg chair with μ = 0.4 at x 1.55..2.05 ahead of the robot, its seat's edge towards it.
-const CHAIR: &str = "name = \"chair\"\nkind = \"chair\"\nyaw = 180.0\nposition = [1.8, 1.8]\nsize = [0.5, 0.5, 0.85]\nmass = 4.0\nfriction = 0.4\ncolour = [40, 120, 200]";
 
 /// What one push did.
 struct Push {
@@ -71,7 +66,7 @@ fn line(limit: f64) -> GuardedMove {
 #[test]
 fn a_clearing_push_steps_coarsely_and_still_reads_mu_m_g() {
     // A chair pushed at 2 cm/s against a 30 N guard is stepped mostly in 10 ms steps once it slides, and every quarter second of its sliding still reads within 1 N of μ m g, never near the limit.
-    let mut robot = SimRobot::new(&robot_and(CHAIR), 3).expect("world");
+    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
     let start = robot.world().object_pose(0).expect("chair");
     let p = push(&mut robot, line(30.0));
     assert_eq!(p.outcome, HandOutcome::Reached);
@@ -84,26 +79,10 @@ fn a_clearing_push_steps_coarsely_and_still_reads_mu_m_g() {
         coarse_s > 0.5 * sliding_s,
         "{coarse_s:.2} s of {sliding_s:.2} s in coarse steps"
     );
-    let sliding: Vec<f64> = p
-        .forces
-        .iter()
-        .filter(|(t, _)| *t > contact + 0.5 && *t < stop - 0.1)
-        .map(|(_, f)| *f)
-        .collect();
-    let windows: Vec<f64> = sliding
-        .chunks(250)
-        .map(|w| w.iter().sum::<f64>() / w.len() as f64)
-        .collect();
-    assert!(windows.len() >= 20, "only {} windows", windows.len());
-    for (k, mean) in windows.iter().enumerate() {
-        assert!(
-            (mean - MU_M_G).abs() < 1.0,
-            "window {k}: {mean:.2} N vs μmg {MU_M_G:.2} N"
-        );
-    }
+    assert_slides_at(&p.forces, contact, stop, TEST_CHAIR_MU_M_G);
     let peak = p.forces.iter().map(|(_, f)| *f).fold(0.0, f64::max);
     println!(
-        "clearing push: {coarse_s:.2} s of {sliding_s:.2} s coarse, peak {peak:.2} N, μmg {MU_M_G:.2} N"
+        "clearing push: {coarse_s:.2} s of {sliding_s:.2} s coarse, peak {peak:.2} N, μmg {TEST_CHAIR_MU_M_G:.2} N"
     );
     assert!(peak < 22.0, "peak {peak:.2} N");
     let moved = robot.world().object_pose(0).expect("chair").translation.x - start.translation.x;
@@ -113,7 +92,7 @@ fn a_clearing_push_steps_coarsely_and_still_reads_mu_m_g() {
 #[test]
 fn a_push_tests_guard_keeps_every_contact_step_fine() {
     // A chair pushed against a 20 N guard (sliding at ~15.7 N, closer to the limit than the coarse margin) is stepped at 1 ms from first contact to the end of the line: a push test's trace is the sensor's full 1 kHz.
-    let mut robot = SimRobot::new(&robot_and(CHAIR), 3).expect("world");
+    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
     let p = push(&mut robot, line(20.0));
     assert!(p.forces.iter().any(|(_, f)| *f >= 2.0), "the hand touched");
     assert_eq!(p.coarse_after_contact, 0);
@@ -122,35 +101,10 @@ fn a_push_tests_guard_keeps_every_contact_step_fine() {
 #[test]
 fn a_jam_during_a_coarse_push_stops_at_the_limit() {
     // A chair slid at 2 cm/s into a bolted box (jam after 0.1 m) under a 30 N guard is stepped coarsely while it slides, and the guard still stops the hand at the limit, the force never more than 10 % past it.
-    let s = scenario(
-        r#"
-name = "jam"
-[room]
-size = [6.0, 3.6]
-[robot]
-start = [1.0, 1.8, 0.0]
-[goal]
-position = [5.0, 1.8]
-[[object]]
-name = "chair"
-kind = "chair"
-yaw = 180.0
-position = [1.8, 1.8]
-size = [0.5, 0.5, 0.85]
-mass = 4.0
-friction = 0.4
-colour = [40, 120, 200]
-[[object]]
-name = "block"
-kind = "box"
-position = [2.25, 1.8]
-size = [0.2, 1.0, 0.6]
-mass = 50.0
-friction = 0.6
-fixed = true
-colour = [90, 90, 90]
-"#,
-    );
+    // The chair, and a bolted box 0.1 m behind it.
+    let s = robot_and(&format!(
+        "{TEST_CHAIR}\n[[object]]\nname = \"block\"\nkind = \"box\"\nposition = [2.25, 1.8]\nsize = [0.2, 1.0, 0.6]\nmass = 50.0\nfriction = 0.6\nfixed = true\ncolour = [90, 90, 90]"
+    ));
     let mut robot = SimRobot::new(&s, 5).expect("world");
     let p = push(&mut robot, line(30.0));
     let HandOutcome::ForceLimit { wrench, .. } = p.outcome else {
@@ -163,14 +117,7 @@ colour = [90, 90, 90]
         p.coarse_after_contact
     );
     let peak = p.forces.iter().map(|(_, f)| *f).fold(0.0, f64::max);
-    // Hold the hand there a while: the force must not keep climbing.
-    robot.advance(0.5).expect("hold");
-    let held_peak = robot
-        .drain_wrenches()
-        .expect("drain")
-        .iter()
-        .map(|w| w.value.force_norm())
-        .fold(peak, f64::max);
+    let held_peak = peak_while_holding(&mut robot, peak);
     println!(
         "jam: {} coarse steps while sliding, stopped at {:.2} N, peak {held_peak:.2} N",
         p.coarse_after_contact,
