@@ -265,9 +265,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// Writes a push test's verdict into the grid over the object's footprint.
     pub(crate) fn mark_verdict(&mut self, target: ObjectId, verdict: &Verdict, push_test: u32) {
         match verdict {
-            Verdict::Static { .. } => self.world.settled.insert(target),
-            Verdict::Movable => self.world.settled.remove(&target),
-        };
+            Verdict::Static { .. } => {
+                self.world.settled.insert(target);
+                self.world.movable.remove(&target);
+            }
+            Verdict::Movable => {
+                self.world.settled.remove(&target);
+                self.world.movable.insert(target);
+            }
+        }
         let Some(prism) = self.world.prisms.iter().find(|p| p.id == target) else {
             return;
         };

@@ -32,6 +32,9 @@ pub(crate) struct WorldModel {
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
     /// Obstacles a push test found static: they stay where they were measured (see [`Self::remember`]).
     pub settled: BTreeSet<ObjectId>,
+    /// Obstacles a push test found movable: a detection that overlaps one takes its id, so the
+    /// verdict stays with the object however often it is seen again (see [`Self::remember`]).
+    pub movable: BTreeSet<ObjectId>,
     /// Obstacles moved by a confirmed push since they were last seen: their footprints are predictions
     /// (the object may have turned as it slid), which the next sight of them replaces.
     pub pushed: BTreeSet<ObjectId>,
@@ -150,7 +153,9 @@ impl WorldModel {
     ///
     /// An obstacle a push test found static stays whole, whatever floor shows: it does not move, and
     /// floor seen between a table's legs must not shrink the table to the part of its top in view. A
-    /// new obstacle overlapping it takes its id, so the verdict stays with the object.
+    /// new obstacle overlapping it takes its id, so the verdict stays with the object; so does one
+    /// overlapping an obstacle found movable, or one moved by a push (where it is now is what the
+    /// look shows).
     pub fn remember(
         &mut self,
         detected: Vec<Prism>,
@@ -207,11 +212,16 @@ impl WorldModel {
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
                 if self.pushed.contains(&old.id) && !settled(old) {
-                    // A pushed object seen again: where it is now is what the look shows.
+                    // A pushed object seen again: where it is now is what the look shows, under its
+                    // own id (its verdict stays with it; the look numbers its detections afresh).
+                    merged.id = old.id;
                 } else if settled(old) {
                     merged = old.merged_with(&merged);
                 } else if !seen_floor(old, Some(&new)) && !floor_between(&merged, old) {
                     merged = merged.merged_with(old);
+                    if self.movable.contains(&old.id) {
+                        merged.id = old.id;
+                    }
                 } else {
                     // Two obstacles side by side: the old one stays or goes on its own.
                     continue;
@@ -508,8 +518,33 @@ mod tests {
     }
 
     #[test]
+    fn an_object_found_movable_keeps_its_id_through_later_looks() {
+        // Invariant: a detection that overlaps an obstacle a push test found movable takes that obstacle's id (the look numbers its detections afresh), look after look, so the verdict stays with the object; an obstacle with no verdict takes the new detection's id as before.
+        let config = config_to(Point2::new(6.2, 1.8));
+        let robot = Point2::new(1.0, 1.8);
+        let no_floor = floor(0.2, 0.2, 0.3, 0.3);
+        let mut world = WorldModel {
+            prisms: vec![
+                prism(9, 2.75, 1.55, 3.25, 2.05),
+                prism(10, 4.0, 0.5, 4.5, 1.0),
+            ],
+            ..WorldModel::default()
+        };
+        world.movable.insert(ObjectId(9));
+        for look in 0..3 {
+            let seen = vec![
+                prism(20 + 2 * look, 2.8, 1.6, 3.3, 2.1),
+                prism(21 + 2 * look, 4.0, 0.5, 4.4, 0.9),
+            ];
+            world.remember(seen, &no_floor, &robot, &config);
+            let ids: Vec<u32> = world.prisms.iter().map(|p| p.id.0).collect();
+            assert_eq!(ids, vec![9, 21 + 2 * look], "look {look}");
+        }
+    }
+
+    #[test]
     fn a_pushed_object_seen_again_is_where_the_look_shows_it() {
-        // Invariant: the footprint of an object moved by a push is a prediction: the next detection overlapping it replaces it (the object turned as it slid) instead of growing over it, and after that sight the object is remembered as usual again.
+        // Invariant: the footprint of an object moved by a push is a prediction: the next detection overlapping it replaces it (the object turned as it slid) instead of growing over it, keeps the object's id (its verdict), and after that sight the object is remembered as usual again.
         let config = config_to(Point2::new(6.2, 1.8));
         let robot = Point2::new(2.9, 2.4);
         let no_floor = floor(1.0, 2.5, 1.2, 2.7);
@@ -520,12 +555,19 @@ mod tests {
         world.displace(ObjectId(9), nalgebra::Vector2::new(0.0, -0.6));
         assert!(world.prisms[0].contains_xy(&Point2::new(2.8, 1.0)));
         // The look shows it 0.1 m short of the prediction and further east.
-        let seen = prism(9, 2.85, 1.05, 3.35, 1.55);
+        // The look numbers its detections afresh.
+        let seen = prism(31, 2.85, 1.05, 3.35, 1.55);
         world.remember(vec![seen.clone()], &no_floor, &robot, &config);
-        assert_eq!(world.prisms, vec![seen.clone()]);
+        assert_eq!(
+            world.prisms,
+            vec![Prism {
+                id: ObjectId(9),
+                ..seen.clone()
+            }]
+        );
         assert!(world.pushed.is_empty());
         // Seen again in part: now it grows over what was seen before, as any object seen in parts.
-        let part = prism(9, 2.85, 1.3, 3.35, 1.55);
+        let part = prism(32, 2.85, 1.3, 3.35, 1.55);
         world.remember(vec![part], &no_floor, &robot, &config);
         assert_eq!(world.prisms.len(), 1);
         assert!(world.prisms[0].contains_xy(&Point2::new(3.0, 1.1)));
