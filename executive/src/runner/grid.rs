@@ -391,18 +391,7 @@ mod tests {
     use super::*;
 
     fn square(x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
-        Prism {
-            id: ObjectId(9),
-            footprint: vec![
-                Point2::new(x0, y0),
-                Point2::new(x1, y0),
-                Point2::new(x1, y1),
-                Point2::new(x0, y1),
-            ],
-            z_min: 0.0,
-            z_max: 1.0,
-            points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
-        }
+        super::super::world::tests::box_prism(9, (x0, y0, x1, y1), 1.0)
     }
 
     #[test]

@@ -326,12 +326,21 @@ fn footprint_box(prism: &Prism) -> (Point2<f64>, Point2<f64>) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use nudge_perception::CloudFrame;
 
     /// An axis-aligned box prism `[x0, x1] × [y0, y1]`, 0.72 m high.
     fn prism(id: u32, x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
+        box_prism(id, (x0, y0, x1, y1), 0.72)
+    }
+
+    /// An axis-aligned box prism `[x0, x1] × [y0, y1]` from the floor to `z_max`, with no points.
+    pub(in crate::runner) fn box_prism(
+        id: u32,
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        z_max: f64,
+    ) -> Prism {
         Prism {
             id: ObjectId(id),
             footprint: vec![
@@ -341,7 +350,7 @@ mod tests {
                 Point2::new(x0, y1),
             ],
             z_min: 0.0,
-            z_max: 0.72,
+            z_max,
             points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
         }
     }
