@@ -5,6 +5,7 @@ use nudge_perception::ObjectId;
 use crate::config::CandidatePolicy;
 use crate::push_test::{PushIntent, Verdict};
 use crate::state::Purpose;
+use crate::view::{Question, Viewpoint};
 
 /// One thing for the runner to do; each ends in an [`crate::Event`].
 #[derive(Clone, Debug, PartialEq)]
@@ -16,7 +17,11 @@ pub enum Command {
     /// Plan a path from the robot to the goal among the known obstacles.
     PlanPath,
     /// Walk the planned path, watching the grid and the sensor for obstacles on it.
-    FollowPath,
+    FollowPath {
+        /// Stop before floor under the path that the walking camera cannot see in time
+        /// ([`crate::Event::UnseenAhead`]); false once no viewpoint could show it.
+        stop_at_unseen: bool,
+    },
     /// Stop the walk under way.
     StopWalk,
     /// Stand and keep watching ahead for a moment, frames into the grid: what flagged the path is
@@ -35,7 +40,14 @@ pub enum Command {
         target: ObjectId,
         /// Test it, or clear it.
         purpose: Purpose,
+        /// The robot may stand on, and push the object over, floor nobody has seen (no viewpoint could
+        /// show it; the guarded stroke's force limit still stops at anything there).
+        allow_unseen: bool,
     },
+    /// Choose where to look from to answer the question.
+    PlanView(Question),
+    /// Walk to a viewpoint over seen floor, watching, and face its heading.
+    WalkToView(Viewpoint),
     /// Walk to the stand pose of `intent`.
     WalkToPushPose(PushIntent),
     /// Run one push test (tare, clouds before, guarded move, clouds after, retract, ICP).

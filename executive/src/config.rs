@@ -44,6 +44,13 @@ pub struct ExecutiveConfig {
     /// calls movable on passive evidence alone, or giving up on one that is in the way: Tamura's rule
     /// calls a person who stopped movable too, and a person usually walks on.
     pub passive_waits: u32,
+    /// Viewpoints the robot may walk to in one run to look from (moving to see). Each costs a walk
+    /// and a look-around (about 10 s); a budget like `max_replans`, so a run always ends.
+    pub max_views: u32,
+    /// Viewpoints per object whose push needs floor not yet seen, before it is pushed over that
+    /// floor anyway (guarded) or given up: one look from the best place, and one more where the first
+    /// showed part of it.
+    pub views_per_push: u32,
     /// Force limit of a push test's guarded move (N): reaching it means static. The paper: 20 N.
     pub force_limit: f64,
     /// Force limit of a clearing stroke (N). The object is known to move, so this only has to catch
@@ -64,6 +71,8 @@ impl Default for ExecutiveConfig {
             max_jams: 2,
             max_clears_per_object: 3,
             passive_waits: 2,
+            max_views: 12,
+            views_per_push: 2,
             force_limit: 20.0,
             clear_force_limit: 30.0,
             classifier: ClassifierConfig::default(),

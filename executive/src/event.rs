@@ -3,6 +3,7 @@
 use nudge_perception::ObjectId;
 
 use crate::push_test::{PushEvidence, PushIntent};
+use crate::view::{UnseenRegion, Viewpoint};
 
 /// An obstacle the runner offers as a push candidate, in the order of the policy.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,6 +57,23 @@ pub enum Event {
     NoPushPlan {
         /// The push planner's reason.
         reason: String,
+        /// Floor that matters to the push (around and under the object) is still unseen: a look from
+        /// elsewhere might find a push.
+        unseen: bool,
+    },
+    /// The walk stopped before floor under the path that the walking camera could not see in time.
+    UnseenAhead {
+        /// How far ahead along the path the first such cell lies (m).
+        distance: f64,
+    },
+    /// The view planner chose where to look from.
+    ViewPlanned(Viewpoint),
+    /// No reachable viewpoint would show enough of the floor that matters.
+    NoView {
+        /// The view planner's reason.
+        reason: String,
+        /// The regions that matter and stay unseen, with why.
+        unseen: Vec<UnseenRegion>,
     },
     /// The push test finished with this evidence.
     PushTestDone(PushEvidence),
@@ -97,6 +115,9 @@ impl Event {
             Event::CandidatesRanked(_) => "CandidatesRanked",
             Event::PushPlanned(_) => "PushPlanned",
             Event::NoPushPlan { .. } => "NoPushPlan",
+            Event::UnseenAhead { .. } => "UnseenAhead",
+            Event::ViewPlanned(_) => "ViewPlanned",
+            Event::NoView { .. } => "NoView",
             Event::PushTestDone(_) => "PushTestDone",
             Event::Cleared { .. } => "Cleared",
             Event::Jammed { .. } => "Jammed",

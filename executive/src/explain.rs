@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use nudge_perception::ObjectId;
 
 use crate::push_test::{Finding, Verdict};
+use crate::view::{UnseenRegion, ViewRecord};
 
 /// One push test, summarised for reports.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,6 +51,10 @@ pub struct Explanation {
     pub jams: BTreeMap<ObjectId, u32>,
     /// The planner's last reason for finding no path.
     pub no_path: Option<String>,
+    /// The viewpoints the robot walked to, to look from, in order.
+    pub views: Vec<ViewRecord>,
+    /// Unseen floor that mattered to the last decision, and why no look showed it.
+    pub unseen: Vec<UnseenRegion>,
 }
 
 impl Explanation {
@@ -88,6 +93,19 @@ impl std::fmt::Display for Explanation {
         }
         for (id, n) in &self.jams {
             writeln!(f, "{id}: jammed {n} time(s) while clearing")?;
+        }
+        for v in &self.views {
+            writeln!(
+                f,
+                "looked from ({:.2}, {:.2}) for {} ({:.2} m² predicted)",
+                v.view.position.x,
+                v.view.position.y,
+                v.question.name(),
+                v.view.gain
+            )?;
+        }
+        for r in &self.unseen {
+            writeln!(f, "unseen {r}")?;
         }
         Ok(())
     }

@@ -18,6 +18,7 @@ pub mod record;
 pub mod robot;
 pub mod runner;
 pub mod state;
+pub mod view;
 
 pub use command::Command;
 pub use config::{CandidatePolicy, ExecutiveConfig};
@@ -27,3 +28,4 @@ pub use machine::{Edge, Knowledge, Step, start, transition};
 pub use push_test::{Finding, PushEvidence, PushIntent, Verdict};
 pub use runner::{RunConfig, RunReport, Runner};
 pub use state::{AbortReason, Approach, Purpose, State};
+pub use view::{Question, UnseenRegion, UnseenWhy, ViewRecord, Viewpoint};

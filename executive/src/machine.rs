@@ -4,7 +4,7 @@
 //! of the loop can be unit-tested with plain values. Every transition names its [`Edge`], which is how
 //! the tests prove they cover the whole machine.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use nudge_perception::ObjectId;
 
@@ -14,6 +14,7 @@ use crate::event::{Candidate, Event};
 use crate::explain::{Explanation, TestRecord};
 use crate::push_test::{Ambiguity, Finding, PushEvidence, PushIntent, Verdict, classify};
 use crate::state::{AbortReason, Approach, Purpose, State};
+use crate::view::{Question, UnseenRegion, ViewRecord};
 
 /// What the executive has learnt so far in a run.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -30,6 +31,11 @@ pub struct Knowledge {
     pub waits: BTreeMap<ObjectId, u32>,
     /// Looks taken because a push test's hand met nothing where the object was seen, per object.
     pub misses: BTreeMap<ObjectId, u32>,
+    /// Viewpoints asked for because a push of the object needed floor not yet seen, per object.
+    pub looks_for: BTreeMap<ObjectId, u32>,
+    /// Objects whose push may stand on or sweep over floor nobody has seen: no viewpoint could show
+    /// it, and the guarded stroke still stops at whatever is there.
+    pub unseen_ok: BTreeSet<ObjectId>,
 }
 
 /// Every edge of the machine, for timelines and coverage.
@@ -64,12 +70,35 @@ pub enum Edge {
     Candidate,
     /// A push test past the limit → Stopping.
     PushTestLimit,
-    /// SelectCandidate → NoPathToGoal.
-    NoCandidateLeft,
+    /// SelectCandidate → PlanView(Way): nothing is left to push; look for floor not yet seen that
+    /// could open a way before giving up.
+    LookForWay,
     /// ApproachPushPose(Planning) → ApproachPushPose(Walking).
     PushPlanned,
-    /// ApproachPushPose(Planning) → SelectCandidate.
+    /// ApproachPushPose(Planning) → SelectCandidate: no push, and no unseen floor could change that.
     NoPushPlan,
+    /// ApproachPushPose(Planning) → PlanView(Push): no push, but floor around or under the object is
+    /// unseen; look before ruling it out.
+    LookForPush,
+    /// ApproachPushPose(Planning) or PlanView(Push) → ApproachPushPose(Planning): the views for this
+    /// object are spent, or no viewpoint shows its floor: plan the push allowing unseen floor (the
+    /// guarded stroke stops at whatever is there).
+    PushIntoUnseen,
+    /// Navigate → PlanView(PathAhead): the path runs over floor the walking camera cannot see in time
+    /// (around a corner, past a jamb); the walk stops before it.
+    UnseenAhead,
+    /// PlanView(PathAhead) → Navigate: no viewpoint shows that floor; walk on over it, watching.
+    WalkIntoUnseen,
+    /// PlanView → GoToView: the view planner chose where to look from.
+    ViewPlanned,
+    /// PlanView(Way) → NoPathToGoal: no reachable viewpoint shows floor that could open a way.
+    NothingLeftToSee,
+    /// Any question with the view budget spent: answered as if no viewpoint could help.
+    ViewLimit,
+    /// GoToView → LookAround: at the viewpoint, facing its heading.
+    AtViewpoint,
+    /// GoToView → LookAround: the walk to the viewpoint was blocked or its path flagged.
+    ViewBlocked,
     /// ApproachPushPose(Walking, Test) → PushTest.
     AtPushPoseForTest,
     /// ApproachPushPose(Walking, Clear) → ClearPath.
@@ -114,7 +143,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 35] = [
+    pub const ALL: [Edge; 44] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -128,9 +157,18 @@ impl Edge {
         Edge::WaitForMover,
         Edge::Candidate,
         Edge::PushTestLimit,
-        Edge::NoCandidateLeft,
+        Edge::LookForWay,
         Edge::PushPlanned,
         Edge::NoPushPlan,
+        Edge::LookForPush,
+        Edge::PushIntoUnseen,
+        Edge::UnseenAhead,
+        Edge::WalkIntoUnseen,
+        Edge::ViewPlanned,
+        Edge::NothingLeftToSee,
+        Edge::ViewLimit,
+        Edge::AtViewpoint,
+        Edge::ViewBlocked,
         Edge::AtPushPoseForTest,
         Edge::AtPushPoseForClear,
         Edge::ApproachBlocked,
@@ -223,7 +261,9 @@ pub fn transition(
         (State::PlanPath, Event::PathFound { .. }) => step(
             State::Navigate,
             k,
-            vec![Command::FollowPath],
+            vec![Command::FollowPath {
+                stop_at_unseen: true,
+            }],
             Edge::PathFound,
         ),
         (State::PlanPath, Event::NoPath { reason }) => {
@@ -244,6 +284,56 @@ pub fn transition(
             State::LookAround,
             vec![Command::LookAround],
             Edge::WalkBlocked,
+        ),
+        (State::Navigate, Event::UnseenAhead { .. }) => plan_view(
+            Question::PathAhead,
+            k,
+            config,
+            vec![Command::StopWalk],
+            Edge::UnseenAhead,
+        ),
+        (State::PlanView { question }, Event::ViewPlanned(view)) => {
+            k.explanation.views.push(ViewRecord {
+                question: question.clone(),
+                view: view.clone(),
+            });
+            step(
+                State::GoToView {
+                    question: question.clone(),
+                    view: view.clone(),
+                },
+                k,
+                vec![Command::WalkToView(view.clone())],
+                Edge::ViewPlanned,
+            )
+        }
+        (State::PlanView { question }, Event::NoView { unseen, .. }) => {
+            no_view(question, unseen.clone(), k, vec![], false)
+        }
+        (State::GoToView { .. }, Event::Arrived) => {
+            // Seen from a new place, the obstacles are perceived afresh: a push ruled out from where
+            // the robot stood before (an object seen in parts, its floor unseen) may be possible now.
+            k.explanation.unpushable.clear();
+            step(
+                State::LookAround,
+                k,
+                vec![Command::LookAround],
+                Edge::AtViewpoint,
+            )
+        }
+        (State::GoToView { .. }, Event::WalkBlocked) => replan(
+            k,
+            config,
+            State::LookAround,
+            vec![Command::LookAround],
+            Edge::ViewBlocked,
+        ),
+        (State::GoToView { .. }, Event::PathInvalidated { .. }) => replan(
+            k,
+            config,
+            State::LookAround,
+            vec![Command::StopWalk, Command::WatchAhead, Command::LookAround],
+            Edge::ViewBlocked,
         ),
         (State::SelectCandidate, Event::CandidatesRanked(list)) => pick(list, k, config),
         (
@@ -266,11 +356,14 @@ pub fn transition(
         (
             State::ApproachPushPose {
                 target,
+                purpose,
                 phase: Approach::Planning,
-                ..
             },
-            Event::NoPushPlan { reason },
+            Event::NoPushPlan { reason, unseen },
         ) => {
+            if *unseen && !k.unseen_ok.contains(target) {
+                return look_for_push(*target, *purpose, k, config);
+            }
             k.explanation.unpushable.insert(*target, reason.clone());
             select_candidate(k, config, Edge::NoPushPlan)
         }
@@ -440,13 +533,7 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
         {
             return wait_for(mover.id, k);
         }
-        let explanation = k.explanation.clone();
-        return step(
-            State::NoPathToGoal(explanation),
-            k,
-            vec![],
-            Edge::NoCandidateLeft,
-        );
+        return plan_view(Question::Way, k, config, vec![], Edge::LookForWay);
     };
     let tested_movable = k
         .explanation
@@ -475,6 +562,7 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
         }
         (Purpose::Test, Edge::Candidate)
     };
+    let allow_unseen = k.unseen_ok.contains(&candidate.id);
     step(
         State::ApproachPushPose {
             target: candidate.id,
@@ -485,8 +573,112 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
         vec![Command::PlanPush {
             target: candidate.id,
             purpose,
+            allow_unseen,
         }],
         edge,
+    )
+}
+
+/// Asks the view planner where to look from to answer `question`, after `first` (stopping a walk);
+/// with the view budget spent, answers as if no viewpoint could help.
+fn plan_view(
+    question: Question,
+    k: Knowledge,
+    config: &ExecutiveConfig,
+    first: Vec<Command>,
+    edge: Edge,
+) -> Step {
+    if k.explanation.views.len() >= config.max_views as usize {
+        return no_view(&question, Vec::new(), k, first, true);
+    }
+    let mut commands = first;
+    commands.push(Command::PlanView(question.clone()));
+    step(State::PlanView { question }, k, commands, edge)
+}
+
+/// What follows when no viewpoint would show the floor that matters (or the view budget is spent):
+/// a way → no path, with the unseen regions; a push → planned over the unseen floor; the path ahead
+/// → walked over it.
+fn no_view(
+    question: &Question,
+    unseen: Vec<UnseenRegion>,
+    mut k: Knowledge,
+    first: Vec<Command>,
+    budget_spent: bool,
+) -> Step {
+    let named = |edge: Edge| if budget_spent { Edge::ViewLimit } else { edge };
+    let mut commands = first;
+    match question {
+        Question::Way => {
+            k.explanation.unseen = unseen;
+            let explanation = k.explanation.clone();
+            step(
+                State::NoPathToGoal(explanation),
+                k,
+                commands,
+                named(Edge::NothingLeftToSee),
+            )
+        }
+        Question::Push { target, purpose } => {
+            k.unseen_ok.insert(*target);
+            commands.push(Command::PlanPush {
+                target: *target,
+                purpose: *purpose,
+                allow_unseen: true,
+            });
+            step(
+                State::ApproachPushPose {
+                    target: *target,
+                    purpose: *purpose,
+                    phase: Approach::Planning,
+                },
+                k,
+                commands,
+                named(Edge::PushIntoUnseen),
+            )
+        }
+        Question::PathAhead => {
+            commands.push(Command::FollowPath {
+                stop_at_unseen: false,
+            });
+            step(State::Navigate, k, commands, named(Edge::WalkIntoUnseen))
+        }
+    }
+}
+
+/// A push of `target` needs floor not yet seen: look for it, as often as `views_per_push` allows;
+/// then plan it over the unseen floor.
+fn look_for_push(
+    target: ObjectId,
+    purpose: Purpose,
+    mut k: Knowledge,
+    config: &ExecutiveConfig,
+) -> Step {
+    let looked = k.looks_for.get(&target).copied().unwrap_or(0);
+    if looked >= config.views_per_push {
+        k.unseen_ok.insert(target);
+        return step(
+            State::ApproachPushPose {
+                target,
+                purpose,
+                phase: Approach::Planning,
+            },
+            k,
+            vec![Command::PlanPush {
+                target,
+                purpose,
+                allow_unseen: true,
+            }],
+            Edge::PushIntoUnseen,
+        );
+    }
+    k.looks_for.insert(target, looked + 1);
+    plan_view(
+        Question::Push { target, purpose },
+        k,
+        config,
+        vec![],
+        Edge::LookForPush,
     )
 }
 

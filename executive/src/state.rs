@@ -4,6 +4,7 @@ use nudge_perception::ObjectId;
 
 use crate::explain::Explanation;
 use crate::push_test::PushIntent;
+use crate::view::{Question, Viewpoint};
 
 /// Why the robot is walking to a push pose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,11 +62,24 @@ pub enum State {
         /// The plan being executed.
         intent: PushIntent,
     },
+    /// Choosing where to look from to answer `question` (the view planner).
+    PlanView {
+        /// What the look is meant to answer.
+        question: Question,
+    },
+    /// Walking to a viewpoint and turning to face its heading, to look around there.
+    GoToView {
+        /// What the look is meant to answer.
+        question: Question,
+        /// Where to look from.
+        view: Viewpoint,
+    },
     /// Retracting the arm and stopping the base before ending in `Aborted`.
     Stopping(AbortReason),
     /// Terminal: the robot stands in the goal region.
     Goal,
-    /// Terminal: no path exists and no untested obstacle could open one.
+    /// Terminal: no path exists, no untested obstacle could open one, and no reachable viewpoint could
+    /// show floor that would.
     NoPathToGoal(Explanation),
     /// Terminal: the run was stopped, with the reason and what was known then.
     Aborted(AbortReason, Explanation),
@@ -91,6 +105,8 @@ impl State {
             State::ApproachPushPose { .. } => "ApproachPushPose",
             State::PushTest { .. } => "PushTest",
             State::ClearPath { .. } => "ClearPath",
+            State::PlanView { .. } => "PlanView",
+            State::GoToView { .. } => "GoToView",
             State::Stopping(_) => "Stopping",
             State::Goal => "Goal",
             State::NoPathToGoal(_) => "NoPathToGoal",

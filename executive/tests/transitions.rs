@@ -5,11 +5,13 @@
 
 use std::collections::BTreeSet;
 
+use nalgebra::Point2;
 use nalgebra::{Isometry2, Unit, Vector2};
 use nudge_executive::push_test::IcpReading;
 use nudge_executive::{
     AbortReason, Approach, Candidate, CandidatePolicy, Command, Edge, Event, ExecutiveConfig,
-    Knowledge, Purpose, PushEvidence, PushIntent, State, Step, Verdict, start, transition,
+    Knowledge, Purpose, PushEvidence, PushIntent, Question, State, Step, UnseenRegion, UnseenWhy,
+    Verdict, ViewRecord, Viewpoint, start, transition,
 };
 use nudge_perception::ObjectId;
 
@@ -80,6 +82,52 @@ fn push_test(target: ObjectId, attempt: u8) -> State {
     }
 }
 
+fn view() -> Viewpoint {
+    Viewpoint {
+        position: Point2::new(2.0, 1.0),
+        yaw: 0.5,
+        gain: 0.8,
+        walk: 1.6,
+        path: vec![Point2::new(0.6, 1.8), Point2::new(2.0, 1.0)],
+    }
+}
+
+fn region() -> UnseenRegion {
+    UnseenRegion {
+        centre: Point2::new(6.5, 2.0),
+        bounds: (Point2::new(5.1, 0.0), Point2::new(8.0, 4.0)),
+        area: 11.6,
+        why: UnseenWhy::NoViewpoint,
+    }
+}
+
+fn no_view() -> Event {
+    Event::NoView {
+        reason: "no reachable place sees it".into(),
+        unseen: vec![region()],
+    }
+}
+
+fn plan_push(target: ObjectId, purpose: Purpose, allow_unseen: bool) -> Command {
+    Command::PlanPush {
+        target,
+        purpose,
+        allow_unseen,
+    }
+}
+
+/// Knowledge with the view budget spent.
+fn views_spent() -> Knowledge {
+    let mut k = Knowledge::default();
+    k.explanation.views = (0..config().max_views)
+        .map(|_| ViewRecord {
+            question: Question::Way,
+            view: view(),
+        })
+        .collect();
+    k
+}
+
 fn with_static(id: ObjectId) -> Knowledge {
     let mut k = Knowledge::default();
     k.explanation.verdicts.insert(
@@ -124,7 +172,7 @@ cases! {
     a_found_path_is_walked => {
         // Invariant: a path leads to Navigate with FollowPath.
         let s = run(State::PlanPath, &Knowledge::default(), Event::PathFound { length: 4.9 });
-        assert_eq!((s.state, s.commands), (State::Navigate, vec![Command::FollowPath]));
+        assert_eq!((s.state, s.commands), (State::Navigate, vec![Command::FollowPath { stop_at_unseen: true }]));
         s.edge
     }
     no_path_ranks_candidates_and_keeps_the_reason => {
@@ -180,7 +228,7 @@ cases! {
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
         k.waits.insert(CHAIR, config().passive_waits);
         let s2 = run(State::SelectCandidate, &k, Event::CandidatesRanked(vec![person]));
-        assert!(matches!(s2.state, State::NoPathToGoal(_)));
+        assert_eq!(s2.state, State::PlanView { question: Question::Way });
         s.edge
     }
     a_known_movable_candidate_skips_the_push_test => {
@@ -190,14 +238,14 @@ cases! {
         k.waits.insert(CHAIR, config().passive_waits);
         let s = run(State::SelectCandidate, &k, e);
         assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::Planning));
-        assert_eq!(s.commands, vec![Command::PlanPush { target: CHAIR, purpose: Purpose::Clear }]);
+        assert_eq!(s.commands, vec![plan_push(CHAIR, Purpose::Clear, false)]);
         s.edge
     }
     the_first_unsettled_candidate_is_tested => {
         // Invariant: the best-ranked object without a static verdict is approached for a push test.
         let s = run(State::SelectCandidate, &with_static(TABLE), candidates(&[TABLE, CHAIR]));
         assert_eq!(s.state, approach(CHAIR, Purpose::Test, Approach::Planning));
-        assert_eq!(s.commands, vec![Command::PlanPush { target: CHAIR, purpose: Purpose::Test }]);
+        assert_eq!(s.commands, vec![plan_push(CHAIR, Purpose::Test, false)]);
         s.edge
     }
     push_tests_past_the_limit_stop_the_run => {
@@ -207,14 +255,104 @@ cases! {
         assert_eq!(s.state, State::Stopping(AbortReason::PushTestLimit(config().max_push_tests)));
         s.edge
     }
-    no_candidate_left_ends_in_no_path_with_the_evidence => {
-        // Invariant: when every candidate is settled the run ends in NoPathToGoal carrying the verdicts.
+    no_candidate_left_looks_for_a_way_before_giving_up => {
+        // Invariant: when every candidate is settled the robot does not give up yet: it asks where to look from for unseen floor that could open a way.
         let s = run(State::SelectCandidate, &with_static(TABLE), candidates(&[TABLE]));
+        assert_eq!(s.state, State::PlanView { question: Question::Way });
+        assert_eq!(s.commands, vec![Command::PlanView(Question::Way)]);
+        s.edge
+    }
+    no_view_that_could_open_a_way_ends_in_no_path_with_the_evidence => {
+        // Invariant: when no reachable viewpoint shows floor that could open a way, the run ends in NoPathToGoal carrying the verdicts and the unseen regions with why they stay unseen.
+        let s = run(State::PlanView { question: Question::Way }, &with_static(TABLE), no_view());
         match &s.state {
-            State::NoPathToGoal(e) => assert_eq!(e.static_objects(), vec![TABLE]),
+            State::NoPathToGoal(e) => {
+                assert_eq!(e.static_objects(), vec![TABLE]);
+                assert_eq!(e.unseen, vec![region()]);
+            }
             other => panic!("expected NoPathToGoal, got {other:?}"),
         }
         assert!(s.commands.is_empty());
+        s.edge
+    }
+    a_spent_view_budget_answers_as_if_no_view_could_help => {
+        // Invariant: with max_views viewpoints visited, a question is not asked: a way ends in NoPathToGoal, a push is planned over unseen floor, the path ahead is walked over it.
+        let k = views_spent();
+        let s = run(State::SelectCandidate, &k, candidates(&[]));
+        assert!(matches!(s.state, State::NoPathToGoal(_)));
+        let push = run(approach(CHAIR, Purpose::Test, Approach::Planning), &k, Event::NoPushPlan { reason: "unseen".into(), unseen: true });
+        assert_eq!(push.state, approach(CHAIR, Purpose::Test, Approach::Planning));
+        assert_eq!(push.commands, vec![plan_push(CHAIR, Purpose::Test, true)]);
+        let walk = run(State::Navigate, &k, Event::UnseenAhead { distance: 1.9 });
+        assert_eq!((walk.state, walk.commands), (State::Navigate, vec![Command::StopWalk, Command::FollowPath { stop_at_unseen: false }]));
+        s.edge
+    }
+    a_push_that_needs_unseen_floor_looks_first => {
+        // Invariant: a push ruled out only by floor not yet seen (stand pose, sweep) sends the robot to look before the object is ruled out, counting the look for that object; nothing is marked unpushable.
+        let s = run(approach(CHAIR, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::NoPushPlan { reason: "unseen".into(), unseen: true });
+        let question = Question::Push { target: CHAIR, purpose: Purpose::Test };
+        assert_eq!(s.state, State::PlanView { question: question.clone() });
+        assert_eq!(s.commands, vec![Command::PlanView(question)]);
+        assert_eq!(s.knowledge.looks_for.get(&CHAIR), Some(&1));
+        assert!(s.knowledge.explanation.unpushable.is_empty());
+        s.edge
+    }
+    a_push_whose_floor_no_view_shows_is_planned_over_it => {
+        // Invariant: when no viewpoint shows the floor a push needs (or its looks are spent), the push is planned again allowing unseen floor, and the object is remembered as such for later plans; a later failure then rules it out.
+        let question = Question::Push { target: CHAIR, purpose: Purpose::Clear };
+        let s = run(State::PlanView { question }, &Knowledge::default(), no_view());
+        assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::Planning));
+        assert_eq!(s.commands, vec![plan_push(CHAIR, Purpose::Clear, true)]);
+        assert!(s.knowledge.unseen_ok.contains(&CHAIR));
+        let mut spent = Knowledge::default();
+        spent.looks_for.insert(CHAIR, config().views_per_push);
+        let again = run(approach(CHAIR, Purpose::Test, Approach::Planning), &spent, Event::NoPushPlan { reason: "unseen".into(), unseen: true });
+        assert_eq!(again.commands, vec![plan_push(CHAIR, Purpose::Test, true)]);
+        let out = run(approach(CHAIR, Purpose::Test, Approach::Planning), &s.knowledge, Event::NoPushPlan { reason: "unseen".into(), unseen: true });
+        assert_eq!(out.state, State::SelectCandidate);
+        assert!(out.knowledge.explanation.unpushable.contains_key(&CHAIR));
+        let later = run(State::SelectCandidate, &s.knowledge, candidates(&[CHAIR]));
+        assert_eq!(later.commands, vec![plan_push(CHAIR, Purpose::Test, true)]);
+        s.edge
+    }
+    unseen_floor_ahead_stops_the_walk_and_asks_where_to_look => {
+        // Invariant: a path running over floor the walking camera will not see in time stops the walk and asks the view planner about the path ahead; no replan is counted.
+        let s = run(State::Navigate, &Knowledge::default(), Event::UnseenAhead { distance: 1.9 });
+        assert_eq!(s.state, State::PlanView { question: Question::PathAhead });
+        assert_eq!(s.commands, vec![Command::StopWalk, Command::PlanView(Question::PathAhead)]);
+        assert_eq!(s.knowledge.replans, 0);
+        s.edge
+    }
+    unseen_floor_no_view_shows_is_walked_over => {
+        // Invariant: when no viewpoint shows the unseen floor under the path ahead, the walk goes on over it (watched by the grid), no longer stopping for unseen floor.
+        let s = run(State::PlanView { question: Question::PathAhead }, &Knowledge::default(), no_view());
+        assert_eq!((s.state, s.commands), (State::Navigate, vec![Command::FollowPath { stop_at_unseen: false }]));
+        s.edge
+    }
+    a_chosen_viewpoint_is_walked_to_and_recorded => {
+        // Invariant: a viewpoint from the view planner is walked to, and recorded with its question in the explanation.
+        let s = run(State::PlanView { question: Question::PathAhead }, &Knowledge::default(), Event::ViewPlanned(view()));
+        assert_eq!(s.state, State::GoToView { question: Question::PathAhead, view: view() });
+        assert_eq!(s.commands, vec![Command::WalkToView(view())]);
+        assert_eq!(s.knowledge.explanation.views, vec![ViewRecord { question: Question::PathAhead, view: view() }]);
+        s.edge
+    }
+    at_the_viewpoint_the_robot_looks_around_afresh => {
+        // Invariant: at the viewpoint the robot looks around; pushes ruled out from where it stood before are open again (the obstacles are perceived afresh).
+        let mut k = Knowledge::default();
+        k.explanation.unpushable.insert(CHAIR, "every push runs into something".into());
+        let s = run(State::GoToView { question: Question::Way, view: view() }, &k, Event::Arrived);
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        assert!(s.knowledge.explanation.unpushable.is_empty());
+        s.edge
+    }
+    a_blocked_walk_to_a_viewpoint_looks_again => {
+        // Invariant: a walk to a viewpoint that is blocked, or whose path the grid flags, ends in a look-around from where the robot stands and counts a replan; a flag also stops the walk and watches ahead first.
+        let go = State::GoToView { question: Question::Way, view: view() };
+        let s = run(go.clone(), &Knowledge::default(), Event::WalkBlocked);
+        assert_eq!((s.state, s.commands, s.knowledge.replans), (State::LookAround, vec![Command::LookAround], 1));
+        let f = run(go, &Knowledge::default(), Event::PathInvalidated { reason: "moving cell".into() });
+        assert_eq!((f.state, f.commands), (State::LookAround, vec![Command::StopWalk, Command::WatchAhead, Command::LookAround]));
         s.edge
     }
     a_push_plan_walks_to_the_stand_pose => {
@@ -226,7 +364,7 @@ cases! {
     }
     no_push_plan_marks_the_object_and_selects_again => {
         // Invariant: an object without a push plan is settled as unpushable and the ranking is redone without it.
-        let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::NoPushPlan { reason: "no stand pose".into() });
+        let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::NoPushPlan { reason: "no stand pose".into(), unseen: false });
         assert_eq!(s.state, State::SelectCandidate);
         assert_eq!(s.commands, vec![Command::RankCandidates { policy: CandidatePolicy::Nearest, exclude: vec![TABLE] }]);
         assert_eq!(s.knowledge.explanation.unpushable.get(&TABLE).map(String::as_str), Some("no stand pose"));
@@ -387,7 +525,12 @@ fn jammed_and_over_cleared_objects_are_settled() {
     k.explanation.jams.insert(CHAIR, config().max_jams);
     k.clears.insert(TABLE, config().max_clears_per_object);
     let s = run(State::SelectCandidate, &k, candidates(&[TABLE, CHAIR]));
-    assert!(matches!(s.state, State::NoPathToGoal(_)));
+    assert_eq!(
+        s.state,
+        State::PlanView {
+            question: Question::Way
+        }
+    );
 }
 
 #[test]
@@ -409,7 +552,12 @@ fn an_object_cleared_before_is_cleared_again_without_a_test() {
     assert_eq!(s.knowledge.push_tests, 0);
     k.clears.insert(CHAIR, config().max_clears_per_object);
     let s = run(State::SelectCandidate, &k, candidates(&[CHAIR]));
-    assert!(matches!(s.state, State::NoPathToGoal(_)));
+    assert_eq!(
+        s.state,
+        State::PlanView {
+            question: Question::Way
+        }
+    );
 }
 
 #[test]

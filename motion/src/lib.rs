@@ -18,6 +18,7 @@ pub mod planner;
 pub mod problem;
 pub mod push;
 pub mod reach;
+pub mod seen_floor;
 pub mod space;
 pub mod validity;
 
@@ -28,7 +29,8 @@ pub use obstacle::{Obstacle, ObstacleError};
 pub use path::{Path, PathError};
 pub use planner::{Budget, NoPath, Planner, rrt::Rrt, rrt_connect::RrtConnect, shortcut::Shortcut};
 pub use problem::{GoalRegion, Problem, ProblemError};
-pub use push::{PushConfig, PushError, PushPlan, plan_push};
+pub use push::{PushConfig, PushError, PushPlan, plan_push, plan_push_over};
 pub use reach::certainly_unreachable;
+pub use seen_floor::{AllSeen, FloorCheck, SeenFloor, shadow_length};
 pub use space::{Bounds, SpaceError};
 pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};

@@ -21,6 +21,7 @@ use crate::planner::shortcut::Shortcut;
 use crate::planner::{Budget, Planner};
 use crate::problem::{GoalRegion, Problem};
 use crate::reach::certainly_unreachable;
+use crate::seen_floor::FloorCheck;
 use crate::space::pose;
 use crate::validity::{StateValidity, Validity, ValidityError};
 
@@ -134,6 +135,10 @@ pub enum PushError {
     /// No valid stand pose can be reached from the robot's position.
     #[error("no valid push of {0} has a reachable stand pose")]
     Unreachable(ObjectId),
+    /// Pushes were found, but each stands on floor nobody has seen or sweeps the object over floor
+    /// that neither a look nor the object's own shadow explains.
+    #[error("every push of {0} needs floor not yet seen")]
+    UnseenFloor(ObjectId),
     /// The world could not be edited.
     #[error(transparent)]
     Validity(#[from] ValidityError),
@@ -158,6 +163,15 @@ struct PushScene<'a> {
     without: &'a Validity,
     goal: &'a GoalRegion,
     config: &'a PushConfig,
+    floor: Option<FloorCheck<'a>>,
+}
+
+/// Why a push was not taken.
+enum Miss {
+    /// It runs into something (or the robot cannot follow).
+    Blocked,
+    /// It needs floor nobody has seen.
+    Unseen,
 }
 
 /// A valid push from a stance.
@@ -169,13 +183,29 @@ struct Candidate {
     path_after: Option<Path>,
 }
 
-/// Plans a push of `prism` for a robot at `robot` that wants to reach `goal` in `validity`'s world.
+/// Plans a push of `prism` for a robot at `robot` that wants to reach `goal` in `validity`'s world,
+/// whatever floor has been seen.
 pub fn plan_push(
     prism: &Prism,
     validity: &Validity,
     robot: &Point2<f64>,
     goal: &GoalRegion,
     config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Result<PushPlan, PushError> {
+    plan_push_over(prism, validity, robot, goal, config, None, rng)
+}
+
+/// Plans a push like [`plan_push`], keeping the stand pose on seen floor and the sweep on seen floor
+/// or in the object's own shadow when `floor` is given. [`PushError::UnseenFloor`] when pushes exist
+/// but each needs floor not yet seen.
+pub fn plan_push_over(
+    prism: &Prism,
+    validity: &Validity,
+    robot: &Point2<f64>,
+    goal: &GoalRegion,
+    config: &PushConfig,
+    floor: Option<FloorCheck<'_>>,
     rng: &mut ChaCha8Rng,
 ) -> Result<PushPlan, PushError> {
     let id = prism.id;
@@ -188,12 +218,23 @@ pub fn plan_push(
     if faces.is_empty() {
         return Err(PushError::NoPushableFace(id));
     }
+    let mut unseen = false;
     let stances: Vec<Stance> = faces
         .iter()
-        .filter_map(|f| stance_for(f, validity, config))
+        .filter_map(|f| match stance_for(f, validity, config, floor.as_ref()) {
+            Ok(s) => Some(s),
+            Err(miss) => {
+                unseen |= matches!(miss, Miss::Unseen);
+                None
+            }
+        })
         .collect();
     if stances.is_empty() {
-        return Err(PushError::NoStandPose(id));
+        return Err(if unseen {
+            PushError::UnseenFloor(id)
+        } else {
+            PushError::NoStandPose(id)
+        });
     }
     let others: Vec<&Obstacle> = validity
         .obstacles()
@@ -207,14 +248,21 @@ pub fn plan_push(
         without: &validity.without(&[id]),
         goal,
         config,
+        floor,
     };
     let mut candidates = Vec::new();
     for (k, stance) in stances.iter().enumerate() {
         let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add(k as u64));
-        candidates.extend(valid_pushes(stance, &scene, &mut own)?);
+        let (valid, unseen_sweep) = valid_pushes(stance, &scene, &mut own)?;
+        candidates.extend(valid);
+        unseen |= unseen_sweep;
     }
     if candidates.is_empty() {
-        return Err(PushError::Blocked(id));
+        return Err(if unseen {
+            PushError::UnseenFloor(id)
+        } else {
+            PushError::Blocked(id)
+        });
     }
     // Openers first, shortest push first; stable sort keeps face order for ties.
     candidates.sort_by(|a, b| {
@@ -259,11 +307,10 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
     let n = f.len();
     let mut faces: Vec<Face> = Vec::new();
     for i in 0..n {
-        let (a, b) = (f[i], f[(i + 1) % n]);
-        let edge = b - a;
-        if edge.norm() < config.min_face {
+        let Some((a, b)) = face_from(f, i, config.min_face) else {
             continue;
-        }
+        };
+        let edge = b - a;
         // Counter-clockwise footprint: the outward normal is the edge turned clockwise.
         let outward = Unit::new_normalize(Vector2::new(edge.y, -edge.x));
         let Some(hand_height) = hand_height_on(&a, &b, &outward, object, prism, config) else {
@@ -286,6 +333,44 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
         }
     }
     faces
+}
+
+/// Most a run of short edges may turn in all and still be one face (rad): the arc of a round object
+/// (a bin's hull turns by 360° / its vertex count at each vertex) is pushed like a face, a box's
+/// corner (90°) is not.
+const MAX_ARC_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// The face starting at vertex `i` of the counter-clockwise footprint `f`: its edge when at least
+/// `min_face` long, else the chord over the run of short edges from it once the chord is that long,
+/// as long as they turn less than [`MAX_ARC_TURN`] in all.
+fn face_from(f: &[Point2<f64>], i: usize, min_face: f64) -> Option<(Point2<f64>, Point2<f64>)> {
+    let n = f.len();
+    let a = f[i];
+    let first = f[(i + 1) % n] - a;
+    if first.norm() >= min_face {
+        return Some((a, f[(i + 1) % n]));
+    }
+    // A run of short edges only: a long edge is a face of its own, and a short one beside it is a
+    // hull's corner, not part of an arc.
+    let mut turned = 0.0;
+    let mut last = first;
+    for k in 1..n {
+        let b = f[(i + k) % n];
+        let next = f[(i + k + 1) % n] - b;
+        if next.norm() >= min_face {
+            return None;
+        }
+        turned += last.angle(&next);
+        if turned > MAX_ARC_TURN {
+            return None;
+        }
+        let end = f[(i + k + 1) % n];
+        if (end - a).norm() >= min_face {
+            return Some((a, end));
+        }
+        last = next;
+    }
+    None
 }
 
 /// The top of the surface facing the robot, from the points near the face (else the prism's top),
@@ -316,8 +401,14 @@ fn hand_height_on(
     (h >= bottom).then_some(h)
 }
 
-/// The first free stand pose in front of `face` with the hand within reach.
-fn stance_for(face: &Face, validity: &Validity, config: &PushConfig) -> Option<Stance> {
+/// The first free stand pose in front of `face` with the hand within reach, on seen floor when
+/// `floor` is given ([`Miss::Unseen`] when free ones exist only on unseen floor).
+fn stance_for(
+    face: &Face,
+    validity: &Validity,
+    config: &PushConfig,
+    floor: Option<&FloorCheck<'_>>,
+) -> Result<Stance, Miss> {
     let d = face.direction.into_inner();
     let tangent = Vector2::new(-d.y, d.x);
     let r = validity.robot().radius;
@@ -325,6 +416,7 @@ fn stance_for(face: &Face, validity: &Validity, config: &PushConfig) -> Option<S
     let steps = ((config.reach_x.1 - min_standoff) / config.standoff_step.max(1e-3)).floor();
     let standoffs =
         (0..=steps.max(-1.0) as i64).map(|k| min_standoff + k as f64 * config.standoff_step);
+    let mut miss = Miss::Blocked;
     for standoff in standoffs {
         for &t in &config.contact_fractions {
             let contact = face.a + (face.b - face.a) * t;
@@ -334,36 +426,48 @@ fn stance_for(face: &Face, validity: &Validity, config: &PushConfig) -> Option<S
                     continue;
                 }
                 let stand = contact - d * standoff + tangent * lateral;
-                if validity.is_free(&stand) {
-                    return Some(Stance {
-                        direction: face.direction,
-                        stand,
-                        contact,
-                        hand_height: face.hand_height,
-                    });
+                if !validity.is_free(&stand) {
+                    continue;
                 }
+                if floor.is_some_and(|f| !f.stands(&stand, r)) {
+                    miss = Miss::Unseen;
+                    continue;
+                }
+                return Ok(Stance {
+                    direction: face.direction,
+                    stand,
+                    contact,
+                    hand_height: face.hand_height,
+                });
             }
         }
     }
-    None
+    Err(miss)
 }
 
 /// Valid pushes from `stance`, shortest first: the first that opens a path ends the list, since a
-/// longer push along the same face is no better.
+/// longer push along the same face is no better. The flag says whether a push was refused because it
+/// sweeps over unseen floor.
 fn valid_pushes(
     stance: &Stance,
     scene: &PushScene<'_>,
     rng: &mut ChaCha8Rng,
-) -> Result<Vec<Candidate>, PushError> {
+) -> Result<(Vec<Candidate>, bool), PushError> {
     let config = scene.config;
     let mut out = Vec::new();
+    let mut unseen = false;
     for &distance in &config.distances {
         if !(distance.is_finite() && distance > 0.0) {
             continue;
         }
-        // Sweeps only grow with distance: once blocked, longer pushes are blocked too.
-        let Some(candidate) = push_of(stance, distance, scene, rng)? else {
-            break;
+        // Sweeps only grow with distance: once blocked (or over unseen floor), longer pushes are too.
+        let candidate = match push_of(stance, distance, scene, rng)? {
+            Ok(c) => c,
+            Err(Miss::Unseen) => {
+                unseen = true;
+                break;
+            }
+            Err(Miss::Blocked) => break,
         };
         if candidate.path_after.is_none() {
             out.push(candidate);
@@ -373,6 +477,7 @@ fn valid_pushes(
         // that turns as it slides ends short of where the hand drove it.
         let longer = if config.distance_margin > 0.0 {
             push_of(stance, distance + config.distance_margin, scene, rng)?
+                .ok()
                 .filter(|c| c.path_after.is_some())
         } else {
             None
@@ -380,17 +485,18 @@ fn valid_pushes(
         out.push(longer.unwrap_or(candidate));
         break;
     }
-    Ok(out)
+    Ok((out, unseen))
 }
 
 /// The push of `object` from `stance` by `distance`, with the path to the goal after it (`None` in
-/// it when the push does not open the way); `None` when the sweep runs into something.
+/// it when the push does not open the way); a [`Miss`] when the sweep runs into something or over
+/// floor not yet seen.
 fn push_of(
     stance: &Stance,
     distance: f64,
     scene: &PushScene<'_>,
     rng: &mut ChaCha8Rng,
-) -> Result<Option<Candidate>, PushError> {
+) -> Result<Result<Candidate, Miss>, PushError> {
     let PushScene {
         object,
         others,
@@ -398,6 +504,7 @@ fn push_of(
         without,
         goal,
         config,
+        floor,
     } = *scene;
     let offset = stance.direction.into_inner() * distance;
     let swept = object.swept(&offset).map_err(ValidityError::from)?;
@@ -412,16 +519,43 @@ fn push_of(
     let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
     let end = stance.stand + offset;
     if into_other || through_wall || !without.motion_free(&stance.stand, &end) {
-        return Ok(None);
+        return Ok(Err(Miss::Blocked));
+    }
+    if floor.is_some_and(|f| !sweep_on_seen_floor(object, &swept, &f)) {
+        return Ok(Err(Miss::Unseen));
     }
     let after = validity.with_moved(object.id(), &offset)?;
     let path_after = plan(&after, &end, &goal.centre(), goal.tolerance(), config, rng);
-    Ok(Some(Candidate {
+    Ok(Ok(Candidate {
         stance: stance.clone(),
         distance,
         displaced: object.footprint().iter().map(|p| p + offset).collect(),
         path_after,
     }))
+}
+
+/// Spacing of the sample points of a sweep checked against the floor seen (m): the obstacle-type
+/// grid's cell.
+const SWEEP_SAMPLE: f64 = 0.05;
+
+/// Whether the floor `swept` covers beyond the object's footprint was seen, or lies within the
+/// object's own shadow of its footprint (sampled on a lattice of [`SWEEP_SAMPLE`]).
+fn sweep_on_seen_floor(object: &Obstacle, swept: &Obstacle, floor: &FloorCheck<'_>) -> bool {
+    let b = swept.aabb();
+    let nx = ((b.max.x - b.min.x) / SWEEP_SAMPLE).ceil() as usize;
+    let ny = ((b.max.y - b.min.y) / SWEEP_SAMPLE).ceil() as usize;
+    (0..=ny).all(|j| {
+        (0..=nx).all(|i| {
+            let p = Point2::new(
+                b.min.x + i as f64 * SWEEP_SAMPLE,
+                b.min.y + j as f64 * SWEEP_SAMPLE,
+            );
+            !swept.contains(&p)
+                || object.contains(&p)
+                || floor.seen.seen(&p)
+                || object.distance_to_point(&p) <= floor.own_shadow
+        })
+    })
 }
 
 /// Whether a sweep whose footprint lies `swept_gap` (m) from an obstacle, starting `start_gap` from it,
@@ -524,5 +658,36 @@ mod tests {
         };
         let faces = pushable_faces(&obstacle, &bare, &config);
         assert!(faces.iter().all(|f| (f.hand_height - 0.80).abs() < 1e-6));
+    }
+
+    #[test]
+    fn a_round_object_has_faces_and_a_box_corner_is_not_one() {
+        // Invariant: the hull of a bin (a 24-gon of 6.5 cm edges) yields push faces from chords over its short edges, and a square with a 3 cm bevelled corner yields only its four sides.
+        let bin: Vec<Point2<f64>> = (0..24)
+            .map(|k| {
+                let a = std::f64::consts::TAU * f64::from(k) / 24.0;
+                Point2::new(0.25 * a.cos(), 0.25 * a.sin())
+            })
+            .collect();
+        let faces: Vec<_> = (0..bin.len())
+            .filter_map(|i| face_from(&bin, i, 0.1))
+            .collect();
+        assert_eq!(faces.len(), 24);
+        assert!(
+            faces
+                .iter()
+                .all(|(a, b)| (b - a).norm() >= 0.1 && (b - a).norm() < 0.14)
+        );
+        let square = vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.5, 0.0),
+            Point2::new(0.5, 0.47),
+            Point2::new(0.47, 0.5),
+            Point2::new(0.0, 0.5),
+        ];
+        let faces: Vec<_> = (0..square.len())
+            .filter_map(|i| face_from(&square, i, 0.1))
+            .collect();
+        assert_eq!(faces.len(), 4);
     }
 }

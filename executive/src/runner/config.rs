@@ -103,6 +103,62 @@ impl Default for GridSetup {
     }
 }
 
+/// The range camera on the robot's head, as moving to see needs it: where it looks from and what it
+/// can see. Defaults: the paper's SR-4000 on HRP-2's head.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraModel {
+    /// Height of the head's pan/tilt centre, where the camera sits, above the floor (m). Default 1.4.
+    pub eye_height: f64,
+    /// Horizontal field of view, edge to edge (rad). Default 43.6°.
+    pub h_fov: f64,
+    /// Vertical field of view, edge to edge (rad). Default 34.6°.
+    pub v_fov: f64,
+    /// Farthest return (m). Default 5.
+    pub max_range: f64,
+}
+
+impl Default for CameraModel {
+    fn default() -> Self {
+        Self {
+            eye_height: 1.4,
+            h_fov: 43.6f64.to_radians(),
+            v_fov: 34.6f64.to_radians(),
+            max_range: 5.0,
+        }
+    }
+}
+
+impl CameraModel {
+    /// Nearest floor in view with the head tilted `tilt` down (m): where the lower edge of the field
+    /// of view meets the floor.
+    pub fn floor_near(&self, tilt: f64) -> f64 {
+        let down = (tilt + self.v_fov / 2.0).min(std::f64::consts::FRAC_PI_2);
+        self.eye_height / down.tan().max(1e-9)
+    }
+}
+
+/// Moving to see: the camera, the walk, and how viewpoints are chosen.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewSetup {
+    /// The range camera on the head.
+    pub camera: CameraModel,
+    /// Walking speed (m/s): a viewpoint's walk is weighed in seconds against what it shows.
+    pub walk_speed: f64,
+    /// Gap between candidate viewpoints (m). Default 0.25 m: a stand pose a few grid cells off shows
+    /// nearly the same floor, and the view planner's cost grows with the candidates' number.
+    pub spacing: f64,
+}
+
+impl Default for ViewSetup {
+    fn default() -> Self {
+        Self {
+            camera: CameraModel::default(),
+            walk_speed: 0.15,
+            spacing: 0.25,
+        }
+    }
+}
+
 /// A run's parameters.
 #[derive(Clone, Debug)]
 pub struct RunConfig {
@@ -132,6 +188,8 @@ pub struct RunConfig {
     pub push_motion: PushMotionConfig,
     /// The obstacle-type grid.
     pub grid: GridSetup,
+    /// Moving to see.
+    pub view: ViewSetup,
     /// Clearance kept between the robot's cylinder and every obstacle when planning (m): the walk stops
     /// a little short of contact, and perception's footprints are a few millimetres off.
     pub clearance: f64,
@@ -171,6 +229,7 @@ impl RunConfig {
                 },
                 ..GridSetup::default()
             },
+            view: ViewSetup::default(),
             clearance: 0.08,
             forget_after_floor_points: 30,
             structure_margin: 0.15,

@@ -184,6 +184,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         match new_grid(&self.config.grid, start, self.config.goal) {
             Ok(grid) => {
                 self.world.last_motion = vec![f64::NAN; grid.class_codes().len()];
+                self.world.memory = super::unseen::SeenMemory::new(grid.class_codes().len());
+                // The robot stands on its start: that floor is seen, though no camera sees under it.
+                self.world
+                    .memory
+                    .tread(grid.geometry(), start, self.config.robot.radius);
                 self.world.grid = Some(grid);
             }
             Err(e) => {

@@ -8,11 +8,16 @@ use crate::event::Event;
 use crate::record::Observer;
 use crate::robot::Robot;
 
-/// Where a head of `(pan, tilt)` on `base` looks from, for frames without a capture yet.
-pub(crate) fn camera_pose(base: &Isometry2<f64>, head: (f64, f64)) -> Isometry3<f64> {
+/// Where a head of `(pan, tilt)` at `eye_height` on `base` looks from, for frames without a capture
+/// yet.
+pub(crate) fn camera_pose(
+    base: &Isometry2<f64>,
+    head: (f64, f64),
+    eye_height: f64,
+) -> Isometry3<f64> {
     let t = base.translation.vector;
     Isometry3::from_parts(
-        Translation3::new(t.x, t.y, HEAD_HEIGHT),
+        Translation3::new(t.x, t.y, eye_height),
         UnitQuaternion::from_euler_angles(0.0, head.1, base.rotation.angle() + head.0),
     )
 }
@@ -24,9 +29,6 @@ fn same_floor(known: &FloorModel, new: &FloorModel) -> bool {
     let level = |v: f64| v.round().clamp(0.0, 255.0) as u8;
     known.is_floor(new.height(), [level(c.x), level(c.y), level(c.z)])
 }
-
-/// Nominal camera height for the frames reported to observers (m).
-const HEAD_HEIGHT: f64 = 1.4;
 
 impl<R: Robot, O: Observer> Runner<R, O> {
     /// Sweeps the head through the look-around's views, capturing one cloud at each.
@@ -50,6 +52,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.world.views.push(cloud);
         }
         self.publish_grid();
+        if let Ok(base) = self.robot.base_pose() {
+            self.world
+                .looks
+                .push(nalgebra::Point2::from(base.value.translation.vector));
+        }
+        // A look from a viewpoint that left cells it was chosen to show unseen: they are inside
+        // something, or hidden from there.
+        if let (Some(cells), Some(grid)) = (self.world.pending_view.take(), &self.world.grid) {
+            self.world.memory.fail_unseen(grid, &cells);
+        }
         // Look ahead and down while walking, so the path ahead stays in view.
         self.robot
             .start_point_head(0.0, self.config.grid.watch_tilt)?;
@@ -85,6 +97,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(detection) => {
                 let floor_points = floor.split(&fused).0;
                 self.world.floor = Some(floor);
+                // The look's steep views see the floor near the robot, which the grid leaves out.
+                if let Some(grid) = &self.world.grid {
+                    let geometry = *grid.geometry();
+                    self.world.memory.saw(&geometry, &floor_points);
+                    for prism in &detection.prisms {
+                        self.world.memory.saw(&geometry, &prism.points);
+                    }
+                }
                 let here = nalgebra::Point2::from(base.translation.vector);
                 self.world
                     .remember(detection.prisms, &floor_points, &here, &self.config);

@@ -12,6 +12,8 @@ mod navigate;
 mod push;
 mod rank;
 mod report;
+mod unseen;
+mod view;
 mod world;
 
 use std::sync::Arc;
@@ -20,7 +22,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-pub use config::{GridSetup, PushMotionConfig, RunConfig};
+pub use config::{CameraModel, GridSetup, PushMotionConfig, RunConfig, ViewSetup};
 pub use report::{RunReport, TimelineEntry};
 use world::WorldModel;
 
@@ -176,7 +178,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Command::LookAround => Some(self.look_around()),
             Command::DetectObjects => Some(self.detect_objects()),
             Command::PlanPath => Some(self.plan_path()),
-            Command::FollowPath => Some(self.follow_path()),
+            Command::FollowPath { stop_at_unseen } => Some(self.follow_path(*stop_at_unseen)),
             Command::StopWalk => self
                 .robot
                 .stop_walk()
@@ -184,7 +186,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .map(|e| Interrupt::Robot(e).into()),
             Command::WatchAhead => self.watch_ahead().err().map(Into::into),
             Command::RankCandidates { policy, exclude } => Some(self.rank(*policy, exclude)),
-            Command::PlanPush { target, .. } => Some(self.plan_push(*target)),
+            Command::PlanPush {
+                target,
+                allow_unseen,
+                ..
+            } => Some(self.plan_push(*target, *allow_unseen)),
+            Command::PlanView(question) => Some(self.plan_view(question)),
+            Command::WalkToView(view) => Some(self.walk_to_view(view)),
             Command::WalkToPushPose(intent) => Some(self.walk_to_push_pose(intent)),
             Command::PushTest { intent, .. } => Some(self.push_test(intent)),
             Command::MarkVerdict {
@@ -222,9 +230,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     fn report_frames(&mut self) -> Result<(), RobotError> {
         let base = self.robot.base_pose()?;
+        // The floor under the robot is seen floor: it stands there.
+        if let Some(grid) = &self.world.grid {
+            let at = nalgebra::Point2::from(base.value.translation.vector);
+            self.world
+                .memory
+                .tread(grid.geometry(), at, self.config.robot.radius);
+        }
         let head = self.robot.head_angles()?.value;
         let hand = self.robot.hand_position()?.value;
-        let camera = look::camera_pose(&base.value, head);
+        let camera = look::camera_pose(&base.value, head, self.config.view.camera.eye_height);
         self.observer.frames(
             base.stamp,
             &RobotFrames {

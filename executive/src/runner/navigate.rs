@@ -7,6 +7,11 @@ use super::world::WorldModel;
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::PushIntent;
+use crate::view::Viewpoint;
+
+fn wrap(a: f64) -> f64 {
+    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+}
 use crate::record::Observer;
 use crate::robot::{ActionStatus, Robot, WalkOutcome};
 
@@ -35,6 +40,9 @@ enum Watched {
     Walked(WalkOutcome),
     /// The grid flagged the path (the walk is still going).
     Replan(String),
+    /// The path ahead runs over floor the walking camera will not see before the robot is on it,
+    /// this far ahead (m) (the walk is still going, or never started).
+    Unseen(f64),
 }
 
 /// Extra distance beyond the goal tolerance within which an arrival counts (m): the walk's own error.
@@ -112,15 +120,23 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         Path::new(waypoints).map_err(|e| e.to_string())
     }
 
-    /// Walks the planned path to the goal.
-    pub(crate) fn follow_path(&mut self) -> Event {
+    /// Walks the planned path to the goal; with `stop_at_unseen`, stops before floor under the path
+    /// that the walking camera will not see in time.
+    pub(crate) fn follow_path(&mut self, stop_at_unseen: bool) -> Event {
         let Some(path) = self.world.path.clone() else {
             return Event::PathInvalidated {
                 reason: "no path to follow".into(),
             };
         };
-        match self.walk_watching(path.waypoints()) {
+        // A walk stopped on the way (before unseen floor) goes on from where the robot stands.
+        let here = match self.position() {
+            Ok(p) => p,
+            Err(i) => return i.into(),
+        };
+        let rest = super::unseen::rest_of_path(path.waypoints(), here);
+        match self.walk_watching(&rest, stop_at_unseen) {
             Ok(Watched::Replan(reason)) => Event::PathInvalidated { reason },
+            Ok(Watched::Unseen(distance)) => Event::UnseenAhead { distance },
             Ok(Watched::Walked(WalkOutcome::Arrived)) => match self.position() {
                 Ok(p)
                     if (p - self.config.goal).norm()
@@ -145,11 +161,19 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Walks `waypoints` like [`Self::walk`], taking a frame into the grid every watch period; stops
-    /// watching (the walk goes on until the machine stops it) when the grid flags the path.
-    fn walk_watching(&mut self, waypoints: &[Point2<f64>]) -> Result<Watched, Interrupt> {
+    /// watching (the walk goes on until the machine stops it) when the grid flags the path, or, with
+    /// `stop_at_unseen`, when the path ahead runs over floor the walking camera will not see in time.
+    fn walk_watching(
+        &mut self,
+        waypoints: &[Point2<f64>],
+        stop_at_unseen: bool,
+    ) -> Result<Watched, Interrupt> {
         let rest = waypoints.get(1..).unwrap_or_default();
         if rest.is_empty() {
             return Ok(Watched::Walked(WalkOutcome::Arrived));
+        }
+        if stop_at_unseen && let Some(stop) = self.check_unseen_ahead(waypoints)? {
+            return Ok(stop);
         }
         self.robot.start_walk(rest)?;
         let mut next_frame = self.robot.now() + self.config.grid.watch_period;
@@ -166,9 +190,134 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 if let Some(reason) = self.replan_reason() {
                     return Ok(Watched::Replan(reason));
                 }
+                if stop_at_unseen && let Some(stop) = self.check_unseen_ahead(waypoints)? {
+                    return Ok(stop);
+                }
             }
             self.tick()?;
         }
+    }
+
+    /// Whether the walk must stop for unseen floor ahead: when there is some, the head first glances
+    /// at it (one frame, the walk going on); what the glance shows of it is seen, and something
+    /// standing on the path in it stops the walk as a flagged path does.
+    fn check_unseen_ahead(
+        &mut self,
+        waypoints: &[Point2<f64>],
+    ) -> Result<Option<Watched>, Interrupt> {
+        let Some((_, at)) = self.unseen_ahead(waypoints)? else {
+            return Ok(None);
+        };
+        if let Some(reason) = self.glance(waypoints, at)? {
+            return Ok(Some(Watched::Replan(reason)));
+        }
+        Ok(self
+            .unseen_ahead(waypoints)?
+            .map(|(distance, _)| Watched::Unseen(distance)))
+    }
+
+    /// Points the head at `at` for one frame and back to the walking view: its floor counts as seen
+    /// (the grid leaves steep frames out); returns why the walk must stop when obstacle points stand
+    /// within the robot's radius of the path ahead.
+    fn glance(
+        &mut self,
+        waypoints: &[Point2<f64>],
+        at: Point2<f64>,
+    ) -> Result<Option<String>, Interrupt> {
+        let base = self.robot.base_pose()?.value;
+        let here = Point2::from(base.translation.vector);
+        let rel = at - here;
+        let look = &self.config.perception.look_around;
+        let widest = look
+            .pans_deg
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.abs()))
+            .to_radians();
+        let steepest = look
+            .tilts_deg
+            .iter()
+            .fold(0.0f64, |m, t| m.max(*t))
+            .to_radians();
+        let pan = wrap(rel.y.atan2(rel.x) - base.rotation.angle()).clamp(-widest, widest);
+        let eye = self.config.view.camera.eye_height;
+        let tilt = eye
+            .atan2(rel.norm().max(0.1))
+            .clamp(self.config.grid.watch_tilt, steepest);
+        self.robot.start_point_head(pan, tilt)?;
+        self.wait(|r| r.head_status())?;
+        let cloud = self.robot.capture()?;
+        self.observer.cloud(&cloud);
+        self.sense(&cloud, true);
+        self.robot
+            .start_point_head(0.0, self.config.grid.watch_tilt)?;
+        self.wait(|r| r.head_status())?;
+        let (Some(floor), Some(grid)) = (&self.world.floor, &self.world.grid) else {
+            return Ok(None);
+        };
+        let (floor_points, others) = floor.split(&cloud.to_map());
+        let geometry = *grid.geometry();
+        self.world.memory.saw(&geometry, &floor_points);
+        let here = self.position()?;
+        let rest = super::unseen::rest_of_path(waypoints, here);
+        let (low, high) = (self.config.validity.step_height, self.config.robot.height);
+        let radius = self.config.robot.radius;
+        let on_path = others
+            .iter_valid()
+            .filter(|(_, p, _)| f64::from(p.z) > low && f64::from(p.z) < high)
+            .filter(|(_, p, _)| {
+                let q = Point2::new(f64::from(p.x), f64::from(p.y));
+                (q - here).norm() > radius && super::unseen::distance_to_path(&rest, &q) < radius
+            })
+            .count();
+        Ok((on_path >= self.config.forget_after_floor_points).then(|| {
+            format!("a glance at the unseen floor ahead saw {on_path} obstacle points on the path")
+        }))
+    }
+
+    /// How far ahead along `waypoints` (from where the robot stands) the first unseen floor lies that
+    /// the walking camera will not see before the robot is on it, if any.
+    ///
+    /// The walking camera (head tilted [`GridSetup::watch_tilt`](super::config::GridSetup::watch_tilt)
+    /// down) sees the floor from [`CameraModel::floor_near`](super::config::CameraModel::floor_near)
+    /// of that tilt onwards; a frame a watch period later the robot is one period's walk further. Floor
+    /// nearer than that which is still unseen will not be seen before the robot stands on it (it lies
+    /// round a corner, past a door's jamb). Floor nearer than what a look-around shows is left out: no
+    /// look from here would show it either. The band is the inner half of the body's width: what the
+    /// outer half sweeps, the grid's watch of the path flags. Unseen floor counts once it adds up to
+    /// the least area worth a look ([`Self::min_gain`]): a strip across the robot's width, not the
+    /// odd cell in a leg's shadow.
+    fn unseen_ahead(
+        &mut self,
+        waypoints: &[Point2<f64>],
+    ) -> Result<Option<(f64, Point2<f64>)>, Interrupt> {
+        let here = self.position()?;
+        let Some(grid) = self.world.grid.as_ref() else {
+            return Ok(None);
+        };
+        let camera = &self.config.view.camera;
+        let steepest = self
+            .config
+            .perception
+            .look_around
+            .tilts_deg
+            .iter()
+            .fold(0.0f64, |m, t| m.max(t.to_radians()));
+        let band = 0.5 * self.config.robot.radius;
+        // Cells within the band of a point `near` along the path may lie nearer than `near`.
+        let near = camera.floor_near(steepest) + band;
+        let far = camera.floor_near(self.config.grid.watch_tilt)
+            + self.config.view.walk_speed * self.config.grid.watch_period;
+        let rest = super::unseen::rest_of_path(waypoints, here);
+        Ok(super::unseen::first_unseen_along(
+            grid,
+            &self.world.memory,
+            &self.world.prisms,
+            &rest,
+            (near, far),
+            band,
+            self.min_gain(),
+        )
+        .map(|d| (d, super::unseen::point_along(&rest, d))))
     }
 
     /// Stands for [`GridSetup::settle_time`](super::config::GridSetup::settle_time), taking a frame
@@ -238,6 +387,56 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(_) => Event::WalkBlocked,
             Err(i) => i.into(),
         }
+    }
+
+    /// Walks to a viewpoint, watching the grid, and turns to face its heading.
+    pub(crate) fn walk_to_view(&mut self, view: &Viewpoint) -> Event {
+        let here = match self.position() {
+            Ok(p) => p,
+            Err(i) => return i.into(),
+        };
+        let path = match self.view_path(here, view) {
+            Ok(path) => path,
+            Err(_) => return Event::WalkBlocked,
+        };
+        let stamp = self.robot.now();
+        self.observer.path(stamp, path.waypoints());
+        self.watch_path(path.waypoints());
+        let outcome = match self.walk_watching(path.waypoints(), false) {
+            Ok(Watched::Walked(WalkOutcome::Arrived)) => self.turn_to(view.yaw),
+            Ok(Watched::Replan(reason)) => return Event::PathInvalidated { reason },
+            Ok(Watched::Unseen(_)) => Ok(WalkOutcome::Arrived),
+            Ok(Watched::Walked(other)) => Ok(other),
+            Err(i) => return i.into(),
+        };
+        match outcome {
+            Ok(WalkOutcome::Arrived) => {
+                self.world.pending_view = self.world.view_cells.take();
+                Event::Arrived
+            }
+            Ok(_) => Event::WalkBlocked,
+            Err(i) => i.into(),
+        }
+    }
+
+    /// The walk to `view`: its path over seen floor when it starts where the robot stands and every
+    /// leg is free among the obstacles (shortcut), else a planned one.
+    fn view_path(&mut self, here: Point2<f64>, view: &Viewpoint) -> Result<Path, String> {
+        let validity = self.world.validity(&here, &self.config)?;
+        let starts_here = view.path.first().is_some_and(|p| (p - here).norm() < 0.05);
+        if starts_here
+            && let Ok(path) = Path::new(view.path.clone())
+            && path
+                .waypoints()
+                .windows(2)
+                .all(|w| validity.motion_free(&w[0], &w[1]))
+        {
+            return Ok(self
+                .config
+                .shortcut
+                .shorten(&path, &validity, &mut self.rng));
+        }
+        self.plan_to(here, Some(view.position))
     }
 
     fn turn_to(&mut self, yaw: f64) -> Result<WalkOutcome, Interrupt> {

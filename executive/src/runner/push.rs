@@ -1,17 +1,17 @@
 //! Pushing: planning a push, the push test (force, hand travel, colour ICP), and clearing the way.
 
 use nalgebra::{Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2, Vector3};
-use nudge_motion::{GoalRegion, Obstacle, StateValidity, plan_push};
+use nudge_motion::{
+    FloorCheck, GoalRegion, Obstacle, PushError, SeenFloor, StateValidity, plan_push_over,
+};
 use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colour_icp};
 
+use super::unseen::Floor;
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::{IcpReading, PushEvidence, PushIntent};
 use crate::record::Observer;
 use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
-
-/// Camera height assumed when aiming the head (m); the aim only has to put the object in view.
-const AIM_HEIGHT: f64 = 1.4;
 
 /// Clear strokes start this far beyond the body's radius (m): room for the hand and the walk's margin.
 const STROKE_STANDOFF: f64 = 0.12;
@@ -33,8 +33,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.world.prisms.iter().find(|p| p.id == id)
     }
 
-    /// Plans a push of `target` from where the robot stands.
-    pub(crate) fn plan_push(&mut self, target: ObjectId) -> Event {
+    /// Plans a push of `target` from where the robot stands: standing on seen floor and sweeping the
+    /// object over seen floor or its own shadow, unless `allow_unseen` (no viewpoint could show it).
+    pub(crate) fn plan_push(&mut self, target: ObjectId, allow_unseen: bool) -> Event {
         let here = match self.robot.base_pose() {
             Ok(p) => Point2::from(p.value.translation.vector),
             Err(e) => return Interrupt::Robot(e).into(),
@@ -42,6 +43,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let Some(prism) = self.prism(target).cloned() else {
             return Event::NoPushPlan {
                 reason: format!("{target} is no longer seen"),
+                unseen: false,
             };
         };
         let goal = match GoalRegion::new(self.config.goal, self.config.goal_tolerance) {
@@ -49,28 +51,51 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(e) => {
                 return Event::NoPushPlan {
                     reason: e.to_string(),
+                    unseen: false,
                 };
             }
         };
+        let eye = self.config.view.camera.eye_height;
+        let own_shadow = self.world.own_shadow(&prism, eye);
         // Full clearance first; where no stand pose is reachable with it (perception's hulls a few
         // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
         // of contact anyway.
-        let mut planned = Err("no planning bounds".to_string());
+        let mut planned = Err(PushError::NoStandPose(target));
+        let mut unseen = false;
         for validity in self.world.validities(&here, &self.config) {
             let validity = match validity {
                 Ok(v) if v.is_free(&here) => v,
                 Ok(_) => continue,
-                Err(reason) => return Event::NoPushPlan { reason },
+                Err(reason) => {
+                    return Event::NoPushPlan {
+                        reason,
+                        unseen: false,
+                    };
+                }
             };
-            planned = plan_push(
+            let floor = self.world.grid.as_ref().map(|grid| Floor {
+                grid,
+                memory: &self.world.memory,
+            });
+            let check = floor
+                .as_ref()
+                .filter(|_| !allow_unseen)
+                .map(|seen| FloorCheck {
+                    seen: seen as &dyn SeenFloor,
+                    own_shadow,
+                });
+            let attempt = plan_push_over(
                 &prism,
                 &validity,
                 &here,
                 &goal,
                 &self.config.push,
+                check,
                 &mut self.rng,
-            )
-            .map_err(|e| e.to_string());
+            );
+            // Floor not yet seen at any clearance is worth a look, whatever the smaller ones say.
+            unseen |= matches!(attempt, Err(PushError::UnseenFloor(_)));
+            planned = attempt;
             if planned.is_ok() {
                 break;
             }
@@ -89,7 +114,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.world.push_plan = Some(plan);
                 Event::PushPlanned(intent)
             }
-            Err(reason) => Event::NoPushPlan { reason },
+            Err(e) => Event::NoPushPlan {
+                reason: if unseen {
+                    PushError::UnseenFloor(target).to_string()
+                } else {
+                    e.to_string()
+                },
+                unseen,
+            },
         }
     }
 
@@ -335,7 +367,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let rel = centre - base.translation.vector;
         let pan = wrap(rel.y.atan2(rel.x) - base.rotation.angle());
         let aim_z = 0.5 * (prism.z_min + prism.z_max);
-        let tilt = (AIM_HEIGHT - aim_z).atan2(rel.norm().max(0.1));
+        let eye = self.config.view.camera.eye_height;
+        let tilt = (eye - aim_z).atan2(rel.norm().max(0.1));
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;
         let cloud = self.robot.capture()?;

@@ -8,6 +8,7 @@ use std::collections::BTreeSet;
 use nudge_perception::{ColourCloud, FloorModel, ObjectId, Prism};
 
 use super::config::RunConfig;
+use super::unseen::SeenMemory;
 
 /// The runner's world model.
 #[derive(Clone, Debug, Default)]
@@ -41,6 +42,15 @@ pub(crate) struct WorldModel {
     /// Per grid cell, the robot-clock stamp of the last look or walk frame that left it Moving (NaN:
     /// never). Frames of the robot's own pushes do not count: that motion is its own doing.
     pub last_motion: Vec<f64>,
+    /// What the run has seen besides the grid's observations, and what it gave up asking about.
+    pub memory: SeenMemory,
+    /// Where each look-around was taken from (map frame).
+    pub looks: Vec<Point2<f64>>,
+    /// The cells the viewpoint chosen last is predicted to show.
+    pub view_cells: Option<Vec<usize>>,
+    /// The cells the viewpoint the robot arrived at is predicted to show: after its look, those still
+    /// unseen count a failed look.
+    pub pending_view: Option<Vec<usize>>,
 }
 
 /// Clearances tried when planning, as fractions of the configured one, largest first: where the robot
@@ -66,10 +76,19 @@ impl WorldModel {
         }
     }
 
-    /// The planning bounds: the seen box, grown to hold the robot's and the goal's discs.
+    /// The planning bounds: the grid's area (paths are hypotheses through floor not yet seen, checked
+    /// as the robot walks), or the seen box without a grid, grown to hold the robot's and the goal's
+    /// discs.
     pub fn bounds(&self, robot: &Point2<f64>, config: &RunConfig) -> Option<Bounds> {
         let r = nalgebra::Vector2::repeat(config.robot.radius);
         let (mut lo, mut hi) = self.seen.unwrap_or((*robot, *robot));
+        if let Some(grid) = &self.grid {
+            let g = grid.geometry();
+            let extent =
+                nalgebra::Vector2::new(g.width() as f64, g.height() as f64) * g.resolution();
+            lo = lo.inf(&g.origin());
+            hi = hi.sup(&(g.origin() + extent));
+        }
         for p in [robot, &config.goal] {
             lo = lo.inf(&(p - r));
             hi = hi.sup(&(p + r));
@@ -269,6 +288,25 @@ impl WorldModel {
             .footprint
             .iter()
             .any(|p| p.x < lo.x + m || p.y < lo.y + m || p.x > hi.x - m || p.y > hi.y - m)
+    }
+
+    /// How far behind `prism` its own shadow reaches on the floor (m), as seen from the look nearest
+    /// it: the floor it hides from an eye at `eye_height` (see [`nudge_motion::shadow_length`]).
+    pub fn own_shadow(&self, prism: &Prism, eye_height: f64) -> f64 {
+        let far_side = |look: &Point2<f64>| {
+            prism
+                .footprint
+                .iter()
+                .map(|v| (v - look).norm())
+                .fold(0.0, f64::max)
+        };
+        self.looks
+            .iter()
+            .map(far_side)
+            .min_by(f64::total_cmp)
+            .map_or(0.0, |d| {
+                nudge_motion::shadow_length(d, prism.z_max, eye_height)
+            })
     }
 
     /// The problem from `robot` to the goal.
