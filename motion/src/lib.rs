@@ -21,6 +21,7 @@ pub mod reach;
 pub mod seen_floor;
 pub mod space;
 pub mod validity;
+pub mod way;
 
 pub use blocking::{
     BlockingConfig, BlockingReport, Crossing, CrossingConfig, blocking_obstacles, cheapest_crossing,
@@ -34,3 +35,4 @@ pub use reach::certainly_unreachable;
 pub use seen_floor::{AllSeen, FloorCheck, SeenFloor, shadow_length};
 pub use space::{Bounds, SpaceError};
 pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};
+pub use way::{WayHypothesis, unseen_way};

@@ -42,6 +42,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     fn capture_views(&mut self) -> Result<usize, Interrupt> {
         let views = self.config.perception.look_around.views();
         self.world.views.clear();
+        let started = self.robot.now();
         for view in &views {
             self.robot
                 .start_point_head(view.pan_deg.to_radians(), view.tilt_deg.to_radians())?;
@@ -52,6 +53,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.world.views.push(cloud);
         }
         self.publish_grid();
+        self.world.look_time = self.robot.now() - started;
         if let Ok(base) = self.robot.base_pose() {
             self.world
                 .looks

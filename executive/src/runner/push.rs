@@ -114,14 +114,20 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.world.push_plan = Some(plan);
                 Event::PushPlanned(intent)
             }
-            Err(e) => Event::NoPushPlan {
-                reason: if unseen {
-                    PushError::UnseenFloor(target).to_string()
-                } else {
-                    e.to_string()
-                },
-                unseen,
-            },
+            Err(e) => {
+                // Ruled out for another reason, an object whose surroundings are partly unseen (its
+                // hidden side, floor behind it, an outline put together from pieces seen from far)
+                // is still worth a look before it is given up.
+                let seen_in_part = !allow_unseen && self.seen_in_part(&prism);
+                Event::NoPushPlan {
+                    reason: if unseen {
+                        PushError::UnseenFloor(target).to_string()
+                    } else {
+                        e.to_string()
+                    },
+                    unseen: unseen || seen_in_part,
+                }
+            }
         }
     }
 

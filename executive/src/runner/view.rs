@@ -2,12 +2,15 @@
 
 use nalgebra::Point2;
 
+use nudge_motion::view::{LookCoverage, Targets, ViewConfig, ViewScene, plan_view};
+use nudge_motion::{WayHypothesis, unseen_way};
+
 use super::unseen::{regions, unseen_along, unseen_around};
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::record::Observer;
 use crate::robot::Robot;
-use crate::view::{Question, UnseenRegion, UnseenWhy, Viewpoint};
+use crate::view::{Question, UnseenRegion, Viewpoint};
 
 /// What the view planner answered.
 pub(crate) enum Choice {
@@ -113,6 +116,23 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
+    /// Whether enough floor around `prism` (where the robot would stand, where it would go) is still
+    /// unseen to be worth a look: the object is seen only in part.
+    pub(crate) fn seen_in_part(&self, prism: &nudge_perception::Prism) -> bool {
+        let Some(grid) = self.world.grid.as_ref() else {
+            return false;
+        };
+        let cells = unseen_around(
+            grid,
+            &self.world.memory,
+            prism,
+            &self.world.prisms,
+            self.push_ring(),
+        );
+        let res = grid.geometry().resolution();
+        cells.len() as f64 * res * res >= self.min_gain()
+    }
+
     /// How far around an object the floor matters to pushing it (m): where the robot stands (up to
     /// the hand's reach plus its body's radius from the face) and where the object goes (the longest
     /// push tried, and its margin).
@@ -131,15 +151,90 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         regions(grid.geometry(), cells, |i| memory.why(i))
     }
 
-    /// Unseen floor that could open a way: see [`super::hypothesis`].
+    /// Unseen floor that could open a way: the unseen cells inside obstacle outlines under the way
+    /// the robot could take if they were free ([`nudge_motion::unseen_way`]); none when obstacles
+    /// seen close every way.
     fn way_targets(&self, here: Point2<f64>) -> Vec<usize> {
-        let _ = here;
-        Vec::new()
+        let Some(grid) = self.world.grid.as_ref() else {
+            return Vec::new();
+        };
+        let memory = &self.world.memory;
+        let seen = |i: usize| memory.seen(grid, i);
+        let open = |i: usize| memory.open(grid, i);
+        match unseen_way(
+            grid,
+            &self.world.prisms,
+            self.config.robot,
+            self.config.validity.step_height,
+            (here, self.config.goal, self.config.goal_tolerance),
+            &seen,
+            &open,
+        ) {
+            WayHypothesis::Closed => Vec::new(),
+            WayHypothesis::Through(cells) => cells,
+        }
     }
 
     /// The view planner's choice for `targets`.
     fn choose_view(&mut self, here: Point2<f64>, targets: &[usize]) -> Choice {
-        let _ = (here, targets, UnseenWhy::ViewLimit);
-        Choice::None("the view planner is not built yet".into())
+        let Some(grid) = self.world.grid.as_ref() else {
+            return Choice::None("no obstacle-type grid".into());
+        };
+        let validity = match self.world.validity(&here, &self.config) {
+            Ok(v) => v,
+            Err(e) => return Choice::None(e),
+        };
+        let geometry = grid.geometry();
+        let targets = Targets::uniform(targets.iter().filter_map(|&i| geometry.cell_at(i)));
+        let scene = ViewScene {
+            grid,
+            prisms: &self.world.prisms,
+            validity: &validity,
+            robot: here,
+            targets: &targets,
+            seen_floor: Some(&self.world.memory.seen),
+        };
+        let config = ViewConfig {
+            coverage: self.coverage(),
+            walk_speed: self.config.view.walk_speed,
+            look_time: self.world.look_time.max(1e-3),
+            lattice_factor: 2,
+            spacing: self.config.view.spacing,
+            min_gain: self.min_gain(),
+            clearance: 0.5 * self.config.clearance,
+        };
+        match plan_view(&scene, &config) {
+            Ok(v) => {
+                let cells = v.seen.iter().filter_map(|&c| geometry.index(c)).collect();
+                Choice::View(
+                    Viewpoint {
+                        position: v.position,
+                        yaw: v.yaw,
+                        gain: v.gain,
+                        walk: v.walk,
+                        path: v.path,
+                    },
+                    cells,
+                )
+            }
+            Err(e) => Choice::None(e.to_string()),
+        }
+    }
+
+    /// The floor a look-around shows: the head's camera through the look-around's views.
+    pub(crate) fn coverage(&self) -> LookCoverage {
+        let camera = &self.config.view.camera;
+        let look = &self.config.perception.look_around;
+        let tilts: Vec<f64> = look.tilts_deg.iter().map(|t| t.to_radians()).collect();
+        let pans: Vec<f64> = look.pans_deg.iter().map(|p| p.to_radians()).collect();
+        LookCoverage::from_camera(
+            camera.eye_height,
+            camera.h_fov,
+            camera.v_fov,
+            camera.max_range,
+            &tilts,
+            &pans,
+        )
+        .unwrap_or_default()
     }
 }

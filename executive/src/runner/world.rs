@@ -46,6 +46,8 @@ pub(crate) struct WorldModel {
     pub memory: SeenMemory,
     /// Where each look-around was taken from (map frame).
     pub looks: Vec<Point2<f64>>,
+    /// How long the last look-around took (robot time, s): what the view planner weighs a look at.
+    pub look_time: f64,
     /// The cells the viewpoint chosen last is predicted to show.
     pub view_cells: Option<Vec<usize>>,
     /// The cells the viewpoint the robot arrived at is predicted to show: after its look, those still
@@ -125,12 +127,18 @@ impl WorldModel {
             .map(move |f| self.validity_over(&obstacles, robot, config, config.clearance * f))
     }
 
-    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving that
-    /// no prism explains.
+    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving or
+    /// standing (a wall seen while walking) that no prism explains.
     fn obstacles(&self, robot: &Point2<f64>, config: &RunConfig) -> Vec<Prism> {
         let mut obstacles = self.prisms.clone();
         if let Some(grid) = &self.grid {
             obstacles.extend(super::grid::moving_obstacles(
+                grid,
+                &self.prisms,
+                robot,
+                config.robot.radius,
+            ));
+            obstacles.extend(super::grid::stationary_obstacles(
                 grid,
                 &self.prisms,
                 robot,
@@ -197,32 +205,7 @@ impl WorldModel {
                 .count()
                 >= config.forget_after_floor_points
         };
-        // Floor seen where the hull of two obstacles covers neither (two wall runs meeting at a corner,
-        // seen from inside it): they are two things, and their hull would be a phantom over free floor.
-        let floor_between = |a: &Prism, b: &Prism| {
-            let hull = a.merged_with(b);
-            let outside_both = |q: &Point2<f64>| !a.contains_xy(q) && !b.contains_xy(q);
-            let (lo, hi) = footprint_box(&hull);
-            let in_gap = |q: &Point2<f64>| {
-                q.x >= lo.x
-                    && q.y >= lo.y
-                    && q.x <= hi.x
-                    && q.y <= hi.y
-                    && hull.contains_xy(q)
-                    && outside_both(q)
-            };
-            let n = config.forget_after_floor_points;
-            floor_points
-                .iter_valid()
-                .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
-                .filter(|q| in_gap(q))
-                .take(n)
-                .count()
-                >= n
-                || self.grid.as_ref().is_some_and(|g| {
-                    free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA
-                })
-        };
+        let floor_between = |a: &Prism, b: &Prism| self.floor_between(a, b, floor_points, config);
         let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
         let settled = |p: &Prism| self.settled.contains(&p.id);
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
@@ -266,6 +249,116 @@ impl WorldModel {
             same
         });
         self.prisms = current;
+        self.merge_fragments(floor_points, config);
+    }
+
+    /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
+    /// corner, seen from inside it; two chairs side by side): they are two things, and their hull would
+    /// be a phantom over free floor.
+    fn floor_between(
+        &self,
+        a: &Prism,
+        b: &Prism,
+        floor_points: &ColourCloud,
+        config: &RunConfig,
+    ) -> bool {
+        let hull = a.merged_with(b);
+        let outside_both = |q: &Point2<f64>| !a.contains_xy(q) && !b.contains_xy(q);
+        let (lo, hi) = footprint_box(&hull);
+        let in_gap = |q: &Point2<f64>| {
+            q.x >= lo.x
+                && q.y >= lo.y
+                && q.x <= hi.x
+                && q.y <= hi.y
+                && hull.contains_xy(q)
+                && outside_both(q)
+        };
+        let n = config.forget_after_floor_points;
+        floor_points
+            .iter_valid()
+            .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
+            .filter(|q| in_gap(q))
+            .take(n)
+            .count()
+            >= n
+            || self.grid.as_ref().is_some_and(|g| {
+                free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA
+            })
+    }
+
+    /// Merges obstacles that are pieces of one thing: footprints within a grid cell of each other,
+    /// height ranges that meet, and no floor seen between them (see [`Self::floor_between`]). A
+    /// surface seen obliquely or from far (a wall, a table's top at 4 m) comes out of perception in
+    /// pieces whose gaps are where its points thinned out; planning around the pieces is the same as
+    /// around the whole, but a push of one piece "runs into" the next. Two obstacles that both carry a
+    /// push test's verdict stay apart; a merge keeps the id of the one that has a verdict (else the
+    /// older id).
+    fn merge_fragments(&mut self, floor_points: &ColourCloud, config: &RunConfig) {
+        let gap = self
+            .grid
+            .as_ref()
+            .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
+        let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
+        loop {
+            let outlines: Vec<Option<nudge_motion::Obstacle>> = self
+                .prisms
+                .iter()
+                .map(|p| nudge_motion::Obstacle::from_prism(p).ok())
+                .collect();
+            let mut pair = None;
+            'search: for i in 0..self.prisms.len() {
+                for j in i + 1..self.prisms.len() {
+                    let (a, b) = (&self.prisms[i], &self.prisms[j]);
+                    let (Some(oa), Some(ob)) = (&outlines[i], &outlines[j]) else {
+                        continue;
+                    };
+                    if (judged(a) && judged(b))
+                        || !oa.heights_overlap(ob)
+                        || !oa.aabb().inflated(SURFACE_GAP).overlaps(ob.aabb())
+                    {
+                        continue;
+                    }
+                    let apart = oa.distance_to_obstacle(ob);
+                    let hull = a.merged_with(b);
+                    // Their hull adds no more than a strip of the surface gap along it: pieces of one
+                    // run, not two walls meeting at a corner (whose hull is a triangle of floor).
+                    let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint);
+                    if added > SURFACE_GAP * extent(&hull) / 2.0 {
+                        continue;
+                    }
+                    let touching =
+                        apart <= gap && !self.floor_between(a, b, floor_points, config);
+                    // Pieces of one object's surfaces (a table's edge seen from 4 m, floor showing
+                    // under its top): points within the sensor's spacing, and together no larger
+                    // than an object to push (a chair beside a wall stays a chair).
+                    let one_surface = apart <= SURFACE_GAP
+                        && extent(&hull) <= config.max_candidate_extent
+                        && point_gap(a, b, SURFACE_GAP) <= SURFACE_GAP;
+                    if !touching && !one_surface {
+                        continue;
+                    }
+                    pair = Some((i, j));
+                    break 'search;
+                }
+            }
+            let Some((i, j)) = pair else {
+                return;
+            };
+            let b = self.prisms.remove(j);
+            let a = &self.prisms[i];
+            let id = match (judged(a), judged(&b)) {
+                (true, _) => a.id,
+                (false, true) => b.id,
+                _ => a.id.min(b.id),
+            };
+            let mut merged = a.merged_with(&b);
+            merged.id = id;
+            for (_, p, c) in b.points.iter_valid() {
+                merged.points.push(p, c);
+            }
+            self.prisms[i] = merged;
+            self.pushed.remove(&b.id);
+        }
     }
 
     /// Moves `id`'s obstacle by a measured planar displacement (a confirmed push): its old footprint is
@@ -339,6 +432,58 @@ fn free_area_where(
     }
     free as f64 * res * res
 }
+
+/// Points of one surface seen by the range camera lie at most this far apart (m): adjacent pixels
+/// 0.25° apart (43.6° over 176 columns) at the camera's 5 m range, on a surface seen at perception's
+/// 80° incidence limit, are 5 m × 0.25° / cos 80° ≈ 12.5 cm apart.
+const SURFACE_GAP: f64 = 0.125;
+
+/// The least distance between a point of `a` and a point of `b` (3D, m), or infinity; pairs farther
+/// apart than `within` in x or y are skipped early.
+fn point_gap(a: &Prism, b: &Prism, within: f64) -> f64 {
+    let near: Vec<[f32; 3]> = b
+        .points
+        .iter_valid()
+        .map(|(_, q, _)| [q.x, q.y, q.z])
+        .collect();
+    let within = within as f32;
+    let mut best = f32::INFINITY;
+    for (_, p, _) in a.points.iter_valid() {
+        for q in &near {
+            let (dx, dy) = (p.x - q[0], p.y - q[1]);
+            if dx.abs() > within || dy.abs() > within {
+                continue;
+            }
+            let dz = p.z - q[2];
+            best = best.min((dx * dx + dy * dy + dz * dz).sqrt());
+        }
+    }
+    f64::from(best)
+}
+
+/// Area of the polygon `f` (m², shoelace; either winding).
+fn area(f: &[Point2<f64>]) -> f64 {
+    let n = f.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (f[i], f[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}
+
+/// Largest distance between two footprint vertices (m).
+fn extent(prism: &Prism) -> f64 {
+    let f = &prism.footprint;
+    f.iter()
+        .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
+        .fold(0.0, f64::max)
+}
+
+/// Gap (m) within which two pieces may be one thing when there is no grid to say its cell size.
+const MERGE_GAP_FALLBACK: f64 = 0.05;
 
 /// Free floor (m²) the grid saw between two obstacles that keeps them from merging: a few cells, more
 /// than the slivers a hull adds along two overlapping views of one straight face.

@@ -9,7 +9,7 @@ pub use draw::draw;
 use nalgebra::{Point2, Vector2};
 use nudge_executive::record::{GridView, Observer, RobotFrames};
 use nudge_executive::robot::Wrench;
-use nudge_executive::{Edge, PushEvidence, PushIntent, State, Verdict};
+use nudge_executive::{Edge, PushEvidence, PushIntent, Question, State, Verdict, Viewpoint};
 use nudge_perception::{ObjectId, Prism};
 use nudge_sim::scenario::Scenario;
 
@@ -74,6 +74,8 @@ pub struct MapCollector {
     pub tests: Vec<ForceTrace>,
     /// The last verdict on each object.
     pub verdicts: Vec<(ObjectId, Verdict)>,
+    /// Every viewpoint the robot set out for, in order, with what it was to show.
+    pub views: Vec<(Question, Viewpoint)>,
     in_test: bool,
 }
 
@@ -89,6 +91,7 @@ impl MapCollector {
             pushes: Vec::new(),
             tests: Vec::new(),
             verdicts: Vec::new(),
+            views: Vec::new(),
             in_test: false,
         }
     }
@@ -119,6 +122,10 @@ impl Observer for MapCollector {
                 });
             }
             State::PushTest { .. } => {}
+            State::GoToView { question, view } => {
+                self.views.push((question.clone(), view.clone()));
+                self.in_test = false;
+            }
             _ => self.in_test = false,
         }
     }
