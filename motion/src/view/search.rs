@@ -228,10 +228,15 @@ impl<'a> Search<'a> {
     /// candidates estimated best first on the way.
     pub fn best_first(&mut self) -> Result<DistanceField<'a>, NoView> {
         let lattice = self.lattice;
-        let firsts = self.firsts();
-        let mut slot = vec![u32::MAX; lattice.padded_len()];
+        let mut firsts = self.firsts();
+        // Half the memory of a u32 per lattice cell (fresh pages cost as much as the search);
+        // a window holds far fewer first candidates than that.
+        firsts.truncate(usize::from(u16::MAX));
+        let mut slot = vec![u16::MAX; lattice.padded_len()];
         for (k, &(_, i)) in firsts.iter().enumerate() {
-            slot[i] = k as u32;
+            if let Some(s) = slot.get_mut(i) {
+                *s = k as u16;
+            }
         }
         let mut reached = vec![false; firsts.len()];
         let mut unreached = 0; // the first of `firsts` not reached yet

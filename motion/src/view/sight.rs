@@ -117,7 +117,15 @@ impl SightMap {
         let (w, h) = (x1 - x0 + 1, y1 - y0 + 1);
 
         // Occluder heights: prism points first (NaN: none), then obstacle classes without points.
-        let mut top = vec![f32::NAN; w * h];
+        // Occluder tops go straight into the cells' shadow field (NaN: no point yet), which a
+        // last pass turns into factors: one window-sized array, not two.
+        let mut cells = vec![
+            SightCell {
+                shadow: f32::NAN,
+                weight: 0.0,
+            };
+            w * h
+        ];
         let origin = geom.origin();
         // Window edges in the map frame, to skip prisms (and points) outside it.
         let (wx0, wy0) = (origin.x + x0 as f64 * res, origin.y + y0 as f64 * res);
@@ -145,8 +153,7 @@ impl SightMap {
                 let gx = (f64::from(x) - wx0) * inv;
                 let gy = (f64::from(y) - wy0) * inv;
                 if gx >= 0.0 && gy >= 0.0 && gx < w as f64 && gy < h as f64 && z.is_finite() {
-                    let t = &mut top[gy as usize * w + gx as usize];
-                    // The first point sets it (NaN: none yet).
+                    let t = &mut cells[gy as usize * w + gx as usize].shadow;
                     if t.is_nan() || z > *t {
                         *t = z;
                     }
@@ -161,22 +168,17 @@ impl SightMap {
                 .and_then(CellClass::from_code)
                 .is_some_and(CellClass::is_obstacle)
         });
-        let mut cells = Vec::with_capacity(w * h);
-        for (wy, row) in top.chunks_exact(w).enumerate() {
+        for (wy, row) in cells.chunks_exact_mut(w).enumerate() {
             let at = (y0 + wy) * geom.width() + x0;
-            cells.extend(row.iter().zip(&codes[at..at + w]).map(|(&t, &code)| {
-                let shadow = if !t.is_nan() {
-                    shadow_factor(eye, f64::from(t))
+            for (c, &code) in row.iter_mut().zip(&codes[at..at + w]) {
+                c.shadow = if !c.shadow.is_nan() {
+                    shadow_factor(eye, f64::from(c.shadow))
                 } else if obstacle[usize::from(code)] {
                     f32::INFINITY // an obstacle cell without points: unknown height, blocks
                 } else {
                     1.0
                 };
-                SightCell {
-                    shadow,
-                    weight: 0.0,
-                }
-            }));
+            }
         }
         let bw = w.div_ceil(BLOCK);
         let mut block_area = vec![0.0f64; bw * h.div_ceil(BLOCK)];
