@@ -7,9 +7,10 @@
 //! - [`lattice`]: a coarse planning lattice over the grid (where the robot may stand: free of
 //!   obstacles by its radius and a clearance, on floor the grid has seen free), with [`geodesic`]
 //!   walking distances and paths over it (Dijkstra in a bucket queue).
-//! - [`sight`] and [`visibility`]: the occluder heights and target weights over the grid, and the
-//!   prediction of what a look-around from a position shows (rays marched through the grid with a
-//!   running shadow end) and the heading that shows the most.
+//! - [`sight`] and [`visibility`]: the occluder heights and target weights over the grid (and a
+//!   coarse copy, `raster.rs`), and the prediction of what a look-around from a position shows
+//!   (rays marched through the grid with a running shadow end) and the heading that shows the
+//!   most.
 //! - [`planner`]: [`plan_view`] scores candidate positions by predicted area per second of walking
 //!   and looking, and returns the best with its heading, path and the cells it expects to see
 //!   (the search itself, best first and coarse to fine, is `search.rs`).

@@ -13,6 +13,10 @@
 //! A sight line from the eye at `H` to the floor at distance `r` passes above an occluder top at
 //! `(d, h)` iff `H·(1 − d/r) > h`, i.e. iff `r > d · H/(H − h)`: every occluder casts a shadow on
 //! the floor from its far edge to `d` times its factor, and a ray keeps the farthest shadow end.
+//!
+//! For ranking many positions cheaply, the same window is kept at a coarse resolution too
+//! (`raster.rs`), and a *viewshed* on it: per coarse cell, the target area of the 0.8 m target
+//! blocks whose centre it sees through walls ([`SightMap::viewshed`]), cast once from each block.
 
 use nalgebra::Point2;
 use nudge_perception::grid::{CellClass, CellIndex, GridGeometry, ObstacleGrid};
