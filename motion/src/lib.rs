@@ -4,7 +4,9 @@
 //! ([`validity`], with the obstacles of [`obstacle`] in a [`broad_phase`] grid), the problem
 //! ([`problem`]) and the planners ([`planner`]), so that a new planner is one file and a benchmark can
 //! run every planner on one problem. On top of them: which obstacles block the way ([`blocking`]) and
-//! where and how to push one ([`push`]), and a cheap proof that no path exists ([`reach`]).
+//! where and how to push one ([`push`]), a cheap proof that no path exists ([`reach`]), where to walk
+//! and look to see what a decision needs ([`view`]), and whether floor not yet seen could open a way
+//! ([`way`]).
 //!
 //! The robot is a vertical cylinder, so its configuration for collision is its position in the plane;
 //! SE(2) poses appear where heading matters (standing in front of a face to push it).
@@ -21,6 +23,7 @@ pub mod reach;
 pub mod seen_floor;
 pub mod space;
 pub mod validity;
+pub mod view;
 pub mod way;
 
 pub use blocking::{
@@ -35,4 +38,8 @@ pub use reach::certainly_unreachable;
 pub use seen_floor::{AllSeen, FloorCheck, SeenFloor, shadow_length};
 pub use space::{Bounds, SpaceError};
 pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};
+pub use view::{
+    Lattice, LatticeCell, LookCoverage, LookPrediction, NoView, SightMap, Targets, ViewConfig,
+    ViewScene, Viewpoint, plan_view,
+};
 pub use way::{WayHypothesis, unseen_way};

@@ -84,9 +84,9 @@ impl SeenMemory {
     pub fn seen(&self, grid: &ObstacleGrid, i: usize) -> bool {
         self.marked(i)
             || grid
-                .geometry()
-                .cell_at(i)
-                .is_some_and(|c| observed(grid, c))
+                .observed_words()
+                .get(i / 64)
+                .is_some_and(|w| w & (1 << (i % 64)) != 0)
     }
 
     /// Whether cell `i` is unseen and still worth a look.
@@ -101,11 +101,6 @@ impl SeenMemory {
             n => UnseenWhy::LookedAt(u32::from(n)),
         }
     }
-}
-
-/// Whether the camera ever observed `cell`.
-fn observed(grid: &ObstacleGrid, cell: CellIndex) -> bool {
-    grid.cell(cell).is_some_and(|c| c.last_seen.is_some())
 }
 
 /// The floor seen so far, for push planning: observed by the camera or trodden.

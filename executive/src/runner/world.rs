@@ -127,18 +127,12 @@ impl WorldModel {
             .map(move |f| self.validity_over(&obstacles, robot, config, config.clearance * f))
     }
 
-    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving or
-    /// standing (a wall seen while walking) that no prism explains.
+    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving that
+    /// no prism explains.
     fn obstacles(&self, robot: &Point2<f64>, config: &RunConfig) -> Vec<Prism> {
         let mut obstacles = self.prisms.clone();
         if let Some(grid) = &self.grid {
             obstacles.extend(super::grid::moving_obstacles(
-                grid,
-                &self.prisms,
-                robot,
-                config.robot.radius,
-            ));
-            obstacles.extend(super::grid::stationary_obstacles(
                 grid,
                 &self.prisms,
                 robot,
@@ -763,5 +757,85 @@ pub(super) mod tests {
         world.remember(vec![part], &no_floor, &robot, &config);
         assert_eq!(world.prisms.len(), 1);
         assert!(world.prisms[0].contains_xy(&Point2::new(3.0, 1.1)));
+    }
+
+    /// A prism `[x0, x1] × [y0, y1]` up to `z` whose points cover its top at 2 cm spacing.
+    fn solid(id: u32, (x0, y0, x1, y1): (f64, f64, f64, f64), z: f64) -> Prism {
+        let mut p = box_prism(id, (x0, y0, x1, y1), z);
+        let steps = |a: f64, b: f64| {
+            (0..)
+                .map(move |k| a + 0.02 * f64::from(k))
+                .take_while(move |v| *v <= b + 1e-9)
+        };
+        for x in steps(x0, x1) {
+            for y in steps(y0, y1) {
+                p.points
+                    .push(nalgebra::Point3::new(x as f32, y as f32, z as f32), [90, 60, 30]);
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn pieces_of_one_object_merge_and_two_objects_side_by_side_do_not() {
+        // Invariant: two pieces of one table's edge seen from far (points 8 cm apart, floor seen under the table beside them) become one obstacle with both pieces' points; a chair 18 cm from the table stays apart; two wall runs meeting at a corner stay two (their hull would be a triangle of floor).
+        let config = config_to(Point2::new(13.3, 1.8));
+        let robot = Point2::new(3.6, 1.8);
+        let left = solid(7, (8.1, 1.2, 8.2, 1.75), 0.72);
+        let right = solid(8, (8.1, 1.83, 8.2, 2.4), 0.72);
+        let chair = solid(12, (9.05, 0.6, 9.55, 1.1), 0.85);
+        let table_back = solid(9, (8.38, 1.2, 8.9, 2.4), 0.72);
+        let under = floor(8.25, 1.3, 8.33, 2.3);
+        let mut world = WorldModel::default();
+        world.remember(
+            vec![left.clone(), right.clone(), chair.clone(), table_back],
+            &under,
+            &robot,
+            &config,
+        );
+        let edge = world
+            .prisms
+            .iter()
+            .find(|p| p.contains_xy(&Point2::new(8.15, 1.5)))
+            .expect("the table's edge");
+        assert!(edge.contains_xy(&Point2::new(8.15, 2.2)), "{:?}", world.prisms);
+        assert_eq!(edge.id, ObjectId(7));
+        assert_eq!(edge.points.len(), left.points.len() + right.points.len());
+        assert!(world.prisms.iter().any(|p| p.id == ObjectId(12)));
+        // Two wall runs meeting at a corner, touching, no floor seen between them.
+        let mut corner = WorldModel::default();
+        let south = solid(20, (4.1, 3.95, 7.4, 4.05), 2.0);
+        let east = solid(21, (7.35, 4.05, 7.45, 5.5), 2.0);
+        corner.remember(
+            vec![south, east],
+            &floor(1.0, 1.0, 1.1, 1.1),
+            &Point2::new(5.0, 6.0),
+            &config,
+        );
+        assert_eq!(corner.prisms.len(), 2, "{:?}", corner.prisms);
+    }
+
+    #[test]
+    fn objects_that_both_carry_a_verdict_never_merge() {
+        // Invariant: two touching obstacles that both have a push test's verdict stay two; a piece touching one with a verdict joins it under that id.
+        let config = config_to(Point2::new(6.2, 1.8));
+        let a = solid(3, (2.0, 1.0, 2.5, 1.5), 0.8);
+        let b = solid(4, (2.52, 1.0, 3.0, 1.5), 0.8);
+        let mut world = WorldModel {
+            prisms: vec![a.clone(), b.clone()],
+            ..WorldModel::default()
+        };
+        world.settled.insert(ObjectId(3));
+        world.movable.insert(ObjectId(4));
+        world.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
+        assert_eq!(world.prisms.len(), 2);
+        let mut one = WorldModel {
+            prisms: vec![solid(2, (2.0, 1.0, 2.5, 1.5), 0.8), b],
+            ..WorldModel::default()
+        };
+        one.movable.insert(ObjectId(4));
+        one.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
+        assert_eq!(one.prisms.len(), 1);
+        assert_eq!(one.prisms[0].id, ObjectId(4));
     }
 }

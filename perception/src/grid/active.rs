@@ -136,6 +136,7 @@ impl ObstacleGrid {
         self.layers.object[i] = id.0;
         self.layers.evidence[i] = pack_active(push_test);
         self.layers.marked_at[i] = now;
+        self.layers.mark_observed(i);
         self.check_watch(i, old, class, now);
     }
 }

@@ -56,12 +56,18 @@ pub(crate) struct Layers {
     /// Bit `i % 64` of word `i / 64`: cell `i` is Free. Kept with `class` by [`Self::set_class`],
     /// so that a frame finds the crossed cells that are not free a word at a time.
     pub free: Vec<u64>,
+    /// Bit `i % 64` of word `i / 64`: cell `i` was ever observed — crossed by a ray, holding a
+    /// return or given a verdict (exactly the cells whose `last_seen` is not NaN). Or-ed in where a
+    /// frame's crossed words, its returns and the verdicts are visited anyway, so it costs a word
+    /// per crossed word, not a sweep.
+    pub observed: Vec<u64>,
 }
 
 impl Layers {
     pub fn new(n: usize) -> Self {
         Self {
             free: vec![0; n.div_ceil(64)],
+            observed: vec![0; n.div_ceil(64)],
             class: vec![0; n],
             object: vec![NO_OBJECT; n],
             evidence: vec![0; n],
@@ -73,6 +79,14 @@ impl Layers {
             confirmed: vec![0; n],
             watch: vec![0; n],
             stamps: vec![f64::NAN],
+        }
+    }
+
+    /// Records that cell `i` was observed (see `observed`).
+    #[inline]
+    pub fn mark_observed(&mut self, i: usize) {
+        if let Some(w) = self.observed.get_mut(i / 64) {
+            *w |= 1 << (i % 64);
         }
     }
 

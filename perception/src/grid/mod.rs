@@ -94,7 +94,9 @@
 //! temporarily stationary bit bytes); a cell's last observation is its latest frame number (looked
 //! up in a per-frame stamp table), with crossings older than the ring kept per cell when a slot is
 //! reused. So an update costs O(ray steps + cells in the walks' box / 8 + returns × neighbourhood),
-//! plus O(beams · log beams) for the ray rule's previous frame ordered by bearing.
+//! plus O(beams · log beams) for the ray rule's previous frame ordered by bearing. Which cells were
+//! ever observed is one more bitset ([`ObstacleGrid::observed_words`]), or-ed from each crossed word
+//! as those words are listed, and set by returns and verdicts: a word per crossed word, no sweep.
 
 mod active;
 mod class;

@@ -56,6 +56,24 @@ impl ObstacleGrid {
         seen.is_finite().then_some(now - seen)
     }
 
+    /// Whether `cell` was ever observed: crossed by a ray (however near its return), holding a
+    /// return, or given a verdict — exactly when [`Self::age`] is `Some`. False outside the grid.
+    pub fn observed(&self, cell: CellIndex) -> bool {
+        self.idx(cell).is_some_and(|i| {
+            self.layers
+                .observed
+                .get(i / 64)
+                .is_some_and(|w| w >> (i % 64) & 1 != 0)
+        })
+    }
+
+    /// Every cell's [`Self::observed`] as a bitset: bit `i % 64` of word `i / 64` is the cell with
+    /// row-major linear index `i` (as in [`Self::class_codes`]); bits past the last cell are 0.
+    /// Kept up to date by every update and verdict, so reading it costs nothing.
+    pub fn observed_words(&self) -> &[u64] {
+        &self.layers.observed
+    }
+
     /// The cells currently held by `id` (marked by a push test and still an obstacle), sorted.
     pub fn object_cells(&self, id: ObjectId) -> Vec<CellIndex> {
         let Some(r) = self.objects.get(&id) else {
@@ -114,5 +132,108 @@ impl ObstacleGrid {
             }
         }
         n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_rng::uniform;
+    use super::super::{
+        Beam, BeamEnd, CellIndex, Footprint, GridConfig, GridGeometry, ObstacleGrid, RangeFrame,
+        Verdict,
+    };
+    use crate::prism::ObjectId;
+    use nalgebra::{Point2, Vector2};
+
+    /// Asserts that the bitset says observed exactly where `last_seen` (and `age`) is `Some`, and
+    /// that no bit past the last cell is set.
+    fn assert_bitset_is_last_seen(grid: &ObstacleGrid, what: &str) {
+        let geom = grid.geometry();
+        for i in 0..geom.len() {
+            let c = geom.cell_at(i).expect("in grid");
+            let seen = grid.cell(c).expect("in grid").last_seen.is_some();
+            let bit = grid.observed_words()[i / 64] >> (i % 64) & 1 == 1;
+            assert_eq!(bit, seen, "{what}: cell {i}");
+            assert_eq!(grid.observed(c), seen, "{what}: cell {i}");
+            assert_eq!(grid.age(c, 1e6).is_some(), seen, "{what}: cell {i}");
+        }
+        let words = grid.observed_words();
+        assert_eq!(words.len(), geom.len().div_ceil(64));
+        if !geom.len().is_multiple_of(64) {
+            let last = words[words.len() - 1];
+            assert_eq!(last >> (geom.len() % 64), 0, "{what}: bits past the end");
+        }
+        assert!(!grid.observed(CellIndex::new(geom.width() as u32, 0)));
+    }
+
+    #[test]
+    fn the_observed_bitset_is_exactly_the_cells_with_a_last_seen() {
+        // Invariant: after any sequence of random scans (fans of every width and density, returns
+        // and clear beams, blind zones, beams leaving the grid, sensors inside and outside it),
+        // push-test marks and moves, a cell's observed bit is set iff its `last_seen` is `Some`.
+        let mut r = uniform(0x510e_527f_ade6_82d1_u64);
+        for scene in 0..24 {
+            let (w, h) = (40 + (r() * 200.0) as usize, 30 + (r() * 150.0) as usize);
+            let geom =
+                GridGeometry::with_cells(Point2::new(-1.0, 2.0), w, h, 0.05).expect("valid grid");
+            let mut grid = ObstacleGrid::new(geom, GridConfig::default());
+            let size = Vector2::new(w as f64 * 0.05, h as f64 * 0.05);
+            let mut sensor = Point2::new(-1.0 + r() * size.x, 2.0 + r() * size.y);
+            if scene % 6 == 5 {
+                sensor.x -= 1.0; // outside the grid, looking in
+            }
+            let frames = 1 + (r() * 12.0) as usize;
+            for k in 0..frames {
+                let n = 10 + (r() * 400.0) as usize;
+                let span = 0.2 + r() * 6.0;
+                let yaw = r() * std::f64::consts::TAU;
+                let blind = if r() < 0.5 { 0.0 } else { r() * 1.5 };
+                let mut frame = RangeFrame::new(sensor).expect("finite");
+                for b in 0..n {
+                    let a = yaw + span * b as f64 / n as f64;
+                    let range = 0.05 + r() * 9.0;
+                    frame.push_beam(Beam {
+                        end: sensor + Vector2::new(a.cos(), a.sin()) * range,
+                        kind: if r() < 0.6 {
+                            BeamEnd::Hit
+                        } else {
+                            BeamEnd::Clear
+                        },
+                        seen_from: blind * r(),
+                    });
+                }
+                grid.update(&frame, k as f64 * 0.1).expect("in order");
+                if r() < 0.2 {
+                    let c = Point2::new(-1.0 + r() * size.x, 2.0 + r() * size.y);
+                    let square = [
+                        c,
+                        c + Vector2::new(0.3, 0.0),
+                        c + Vector2::new(0.3, 0.3),
+                        c + Vector2::new(0.0, 0.3),
+                    ];
+                    let id = ObjectId(k as u32);
+                    grid.mark_object(
+                        id,
+                        Footprint::Polygon(&square),
+                        Verdict::Movable,
+                        1,
+                        0.1 * k as f64,
+                    )
+                    .expect("valid mark");
+                    if r() < 0.5 {
+                        let moved = square.map(|p| p + Vector2::new(0.5, 0.2));
+                        grid.object_moved(
+                            id,
+                            Footprint::Polygon(&square),
+                            Footprint::Polygon(&moved),
+                            0.1 * k as f64,
+                        )
+                        .expect("marked before");
+                    }
+                }
+                assert_bitset_is_last_seen(&grid, &format!("scene {scene} frame {k}"));
+                sensor += Vector2::new(r() - 0.5, r() - 0.5) * 0.4;
+            }
+        }
     }
 }

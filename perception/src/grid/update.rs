@@ -214,8 +214,12 @@ impl ObstacleGrid {
         s.crossed.clear();
         let l = &mut self.layers;
         let free = l.free.as_slice();
+        let observed = &mut l.observed;
         let crossed = &mut s.crossed;
         l.visible.fold_levels(f, &mut s.level, walked, |k, bits| {
+            if let Some(o) = observed.get_mut(k) {
+                *o |= bits;
+            }
             let base = k * 64;
             let mut bits = bits & !free.get(k).copied().unwrap_or(0);
             while bits != 0 {
@@ -239,6 +243,7 @@ impl ObstacleGrid {
                 continue;
             };
             if l.record_hit(i, f) {
+                l.mark_observed(i);
                 s.hits.push(i as u32);
                 let len = (beam.end - sensor).norm();
                 s.quiet.push(quiet.of(len) as u8);

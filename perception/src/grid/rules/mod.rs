@@ -38,6 +38,9 @@ pub(crate) enum HitDecision {
 /// `quiet` is the moving rule's neighbourhood for this return ([`moving::quiet_radius`]), `sensor`
 /// the sensor's continuous grid coordinates, and `appeared` whether a return in the cell appeared
 /// inside the previous frame's range ([`appeared::PreviousBeams::appeared`]).
+// Called once per return from the update's hot loop: left to itself the compiler stopped inlining
+// it when the observed bitset grew the update a little (callgrind: 6 000 instructions a scan more).
+#[inline]
 pub(crate) fn decide_hit(
     l: &Layers,
     g: &GridGeometry,
