@@ -69,6 +69,8 @@ pub enum UnseenWhy {
     LookedAt(u32),
     /// The view budget was spent before it was looked at.
     ViewLimit,
+    /// Obstacles already seen close every way to it: no look could open one.
+    BehindObstacles,
 }
 
 impl std::fmt::Display for UnseenWhy {
@@ -82,6 +84,9 @@ impl std::fmt::Display for UnseenWhy {
                 )
             }
             UnseenWhy::ViewLimit => write!(f, "the view budget was spent"),
+            UnseenWhy::BehindObstacles => {
+                write!(f, "behind obstacles seen that close every way to it")
+            }
         }
     }
 }

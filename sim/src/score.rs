@@ -3,10 +3,12 @@
 
 use nalgebra::{Point2, Vector2};
 use nudge_executive::{RunReport, State, Verdict};
+use nalgebra::Isometry3;
+use nudge_perception::prism::convex_intersection_area;
 use nudge_perception::{ObjectId, Prism};
 
 use crate::adapter::SimRobot;
-use crate::scenario::{Expect, ExpectedOutcome};
+use crate::scenario::{Expect, ExpectedOutcome, Footprint, ObjectSpec};
 use crate::truth::{Movability, Truth};
 
 /// One verdict matched to the scenario object it was about.
@@ -25,7 +27,11 @@ pub struct Scored {
 /// Farthest an obstacle's centroid may lie from a true object's centre to be that object (m).
 pub const MATCH_DISTANCE: f64 = 0.4;
 
-/// Matches every verdict of `report` to the true object nearest its obstacle, at the end of the run.
+/// Matches every verdict of `report` to the true object its obstacle covers most of, at the end of
+/// the run (the object's footprint where it stands then against the obstacle's): an obstacle seen in
+/// part (a long shelf's near end) has its centroid far from the object's centre, but it lies on the
+/// object. An obstacle that covers no object is matched to the object whose centre lies nearest its
+/// centroid within [`MATCH_DISTANCE`].
 pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
     let world = robot.world();
     let truth = Truth::new(world);
@@ -35,18 +41,35 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
         .verdicts
         .iter()
         .map(|(id, verdict)| {
-            let centroid = report.obstacles.iter().find(|p| p.id == *id).map(centroid);
-            let nearest = centroid.and_then(|c| {
+            let prism = report.obstacles.iter().find(|p| p.id == *id);
+            let covered = prism.and_then(|p| {
                 world
                     .objects()
                     .iter()
                     .enumerate()
                     .filter_map(|(i, (spec, _))| {
                         let pose = truth.object_pose(i)?;
-                        let d = (Point2::new(pose.translation.x, pose.translation.y) - c).norm();
-                        (d <= MATCH_DISTANCE).then(|| (d, i, spec.name.clone()))
+                        let outline = true_outline(spec, &pose)?;
+                        let area = convex_intersection_area(&p.footprint, &outline);
+                        (area > 0.0).then(|| (area, i, spec.name.clone()))
                     })
-                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
+            });
+            let centroid = prism.map(centroid);
+            let nearest = covered.or_else(|| {
+                centroid.and_then(|c| {
+                    world
+                        .objects()
+                        .iter()
+                        .enumerate()
+                        .filter_map(|(i, (spec, _))| {
+                            let pose = truth.object_pose(i)?;
+                            let d =
+                                (Point2::new(pose.translation.x, pose.translation.y) - c).norm();
+                            (d <= MATCH_DISTANCE).then(|| (d, i, spec.name.clone()))
+                        })
+                        .min_by(|a, b| a.0.total_cmp(&b.0))
+                })
             });
             let (object, correct) = match nearest {
                 Some((_, i, name)) => {
@@ -63,6 +86,24 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
             }
         })
         .collect()
+}
+
+/// The footprint of the object `spec` describes, standing at `pose` (its true pose now), as a
+/// counter-clockwise polygon.
+fn true_outline(spec: &ObjectSpec, pose: &Isometry3<f64>) -> Option<Vec<Point2<f64>>> {
+    let centre = Point2::new(pose.translation.x, pose.translation.y);
+    let yaw = pose.rotation.euler_angles().2;
+    Some(
+        match spec.footprint()? {
+            Footprint::Rectangle { half_extents, .. } => Footprint::Rectangle {
+                centre,
+                half_extents,
+                yaw,
+            },
+            Footprint::Disc { radius, .. } => Footprint::Disc { centre, radius },
+        }
+        .polygon(),
+    )
 }
 
 fn centroid(prism: &Prism) -> Point2<f64> {

@@ -84,6 +84,132 @@ pub(crate) fn moving_obstacles(
     out
 }
 
+/// Obstacles for the planner from cells the passive rules hold Stationary (three frames of returns
+/// in place: a wall seen while walking) that no perceived obstacle explains: until a look-around turns
+/// them into an obstacle, a path must not run through a wall the walk already saw. Cells within
+/// `keep_clear` of `robot` are left out, as for [`moving_obstacles`], and so are cells within the
+/// rules' rest radius of any cell ever seen moving (`moved`: per cell, when it was last seen moving,
+/// NaN for never): a person who stood still reads as stationary, walks on, and the look-arounds'
+/// panning views never cross the cells they left twice in a row, which is what clears a stationary
+/// cell. Each row's runs of such cells
+/// are joined with the same runs of the rows above into rectangles, so a wall is a few obstacles, not
+/// one per cell.
+pub(crate) fn stationary_obstacles(
+    grid: &ObstacleGrid,
+    prisms: &[Prism],
+    robot: &Point2<f64>,
+    keep_clear: f64,
+    moved: &[f64],
+) -> Vec<Prism> {
+    let geometry = grid.geometry();
+    let near_motion = near_motion(geometry, moved, grid.config().rest_radius);
+    let moved_near = |x: usize, y: usize| -> bool {
+        near_motion
+            .as_ref()
+            .is_some_and(|m| m.get(y * geometry.width() + x).copied().unwrap_or(false))
+    };
+    let half = geometry.resolution() / 2.0;
+    let (w, h) = (geometry.width(), geometry.height());
+    let codes = grid.class_codes();
+    let stationary = CellClass::Stationary as u8;
+    let unexplained = |x: usize, y: usize| -> bool {
+        let i = y * w + x;
+        if codes.get(i) != Some(&stationary) {
+            return false;
+        }
+        let cell = CellIndex::new(x as u32, y as u32);
+        let centre = geometry.centre(cell);
+        let active = grid
+            .cell(cell)
+            .is_some_and(|c| matches!(c.evidence, Evidence::Active { .. }));
+        !active
+            && (centre - robot).norm() >= keep_clear
+            && !moved_near(x, y)
+            && !prisms.iter().any(|p| overlaps_cell(p, centre, half))
+    };
+    // Open rectangles: (x0, x1, first row), keyed by their run.
+    let mut open: Vec<(usize, usize, usize)> = Vec::new();
+    let mut done: Vec<(usize, usize, usize, usize)> = Vec::new();
+    for y in 0..=h {
+        let mut runs = Vec::new();
+        if y < h {
+            let mut x = 0;
+            while x < w {
+                if unexplained(x, y) {
+                    let x0 = x;
+                    while x < w && unexplained(x, y) {
+                        x += 1;
+                    }
+                    runs.push((x0, x - 1));
+                } else {
+                    x += 1;
+                }
+            }
+        }
+        let mut still = Vec::new();
+        for (x0, x1, y0) in open.drain(..) {
+            if runs.contains(&(x0, x1)) {
+                still.push((x0, x1, y0));
+            } else {
+                done.push((x0, x1, y0, y - 1));
+            }
+        }
+        for run in runs {
+            if !still.iter().any(|(a, b, _)| (*a, *b) == run) {
+                still.push((run.0, run.1, y));
+            }
+        }
+        open = still;
+    }
+    done.sort_unstable_by_key(|&(x0, _, y0, _)| (y0, x0));
+    done.into_iter()
+        .map(|(x0, x1, y0, y1)| {
+            let lo = geometry.centre(CellIndex::new(x0 as u32, y0 as u32));
+            let hi = geometry.centre(CellIndex::new(x1 as u32, y1 as u32));
+            let corner = |x: f64, y: f64| Point2::new(x, y);
+            Prism {
+                id: ObjectId(GRID_OBSTACLE_IDS + (y0 * w + x0) as u32),
+                footprint: vec![
+                    corner(lo.x - half, lo.y - half),
+                    corner(hi.x + half, lo.y - half),
+                    corner(hi.x + half, hi.y + half),
+                    corner(lo.x - half, hi.y + half),
+                ],
+                z_min: 0.0,
+                // Its height is unknown: it blocks any robot.
+                z_max: 2.0,
+                points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
+            }
+        })
+        .collect()
+}
+
+/// Per cell, whether it lies within `radius` of a cell ever seen moving (`moved`: per cell, when it
+/// was last seen moving, NaN for never); `None` when nothing ever moved.
+fn near_motion(geometry: &GridGeometry, moved: &[f64], radius: f64) -> Option<Vec<bool>> {
+    let cells: Vec<usize> = moved
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| t.is_finite())
+        .map(|(i, _)| i)
+        .collect();
+    if cells.is_empty() {
+        return None;
+    }
+    let reach = (radius / geometry.resolution()).ceil() as i64;
+    let (w, h) = (geometry.width() as i64, geometry.height() as i64);
+    let mut near = vec![false; geometry.len()];
+    for i in cells {
+        let (x, y) = (i as i64 % w, i as i64 / w);
+        for v in (y - reach).max(0)..=(y + reach).min(h - 1) {
+            for u in (x - reach).max(0)..=(x + reach).min(w - 1) {
+                near[(v * w + u) as usize] = true;
+            }
+        }
+    }
+    Some(near)
+}
+
 /// The cells of the box around `prism`'s footprint grown by `grow` cells, clamped into the grid, row
 /// by row; `None` for an empty footprint.
 fn footprint_box(

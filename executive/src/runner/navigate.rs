@@ -1,7 +1,7 @@
 //! Planning paths and walking them.
 
 use nalgebra::{Point2, Vector2};
-use nudge_motion::{Path, Problem, StateValidity, certainly_unreachable};
+use nudge_motion::{Path, Problem, StateValidity, Validity, certainly_unreachable};
 
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
@@ -34,6 +34,28 @@ fn nearest_free(here: &Point2<f64>, validity: &dyn StateValidity) -> Option<Poin
     })
 }
 
+/// The point `distance` from `here` (one of 32 bearings, deterministic) farthest from every obstacle
+/// of `validity`: a step straight away from what the robot stands against.
+fn step_away(here: &Point2<f64>, validity: &Validity, distance: f64) -> Point2<f64> {
+    const BEARINGS: usize = 32;
+    let room = |p: &Point2<f64>| {
+        validity
+            .obstacles()
+            .iter()
+            .map(|o| o.distance_to_point(p))
+            .fold(f64::INFINITY, f64::min)
+    };
+    (0..BEARINGS)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / BEARINGS as f64;
+            here + Vector2::new(a.cos(), a.sin()) * distance
+        })
+        .filter(|p| validity.walls().signed_inner_distance(p) >= validity.robot().radius)
+        .map(|p| (room(&p), p))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or(*here, |(_, p)| p)
+}
+
 /// How a watched walk ended.
 enum Watched {
     /// The walk itself ended.
@@ -44,6 +66,9 @@ enum Watched {
     /// this far ahead (m) (the walk is still going, or never started).
     Unseen(f64),
 }
+
+/// A walk blocked within this distance (m) of where it started did not get away at all.
+const STUCK_DISTANCE: f64 = 0.02;
 
 /// Extra distance beyond the goal tolerance within which an arrival counts (m): the walk's own error.
 const ARRIVAL_SLACK: f64 = 0.05;
@@ -78,13 +103,36 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// A shortcut path from `here` to the goal, or to `target` within 3 cm when given.
     fn plan_to(&mut self, here: Point2<f64>, target: Option<Point2<f64>>) -> Result<Path, String> {
-        let validity = self.world.validity(&here, &self.config)?;
+        // A walk that was blocked before it moved (the body standing within the walk's margin of a
+        // face it had pushed, the path leaving along it) starts with a step straight away from what
+        // holds it: the way that gains the most room.
+        let stuck = self
+            .world
+            .stuck_at
+            .is_some_and(|at| (at - here).norm() < STUCK_DISTANCE);
+        let from = if stuck {
+            let validity = self.world.validity(&here, &self.config)?;
+            step_away(&here, &validity, self.config.clearance)
+        } else {
+            here
+        };
+        // The largest clearance at which the robot stands free and, when walking to a target (a stand
+        // pose planned with less clearance), the target is free too.
+        let validity = match target {
+            Some(t) => self
+                .world
+                .validities(&from, &self.config)
+                .filter_map(Result::ok)
+                .find(|v| v.is_free(&from) && v.is_free(&t))
+                .map_or_else(|| self.world.validity(&from, &self.config), Ok)?,
+            None => self.world.validity(&from, &self.config)?,
+        };
         // Where an obstacle seems to overlap the robot (someone stepped up to it, or a hull is a few
         // centimetres generous), plan from the nearest free spot and step there first.
-        let start = if validity.is_free(&here) {
-            here
+        let start = if validity.is_free(&from) {
+            from
         } else {
-            nearest_free(&here, &validity).ok_or_else(|| {
+            nearest_free(&from, &validity).ok_or_else(|| {
                 format!("the start is in collision and no free spot lies within {ESCAPE_RADIUS} m")
             })?
         };
@@ -116,6 +164,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             return Ok(path);
         }
         let mut waypoints = vec![here];
+        if from != here && from != start {
+            waypoints.push(from);
+        }
         waypoints.extend_from_slice(path.waypoints());
         Path::new(waypoints).map_err(|e| e.to_string())
     }
@@ -175,10 +226,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if stop_at_unseen && let Some(stop) = self.check_unseen_ahead(waypoints)? {
             return Ok(stop);
         }
+        let from = self.position()?;
         self.robot.start_walk(rest)?;
         let mut next_frame = self.robot.now() + self.config.grid.watch_period;
         loop {
             if let ActionStatus::Done(outcome) = self.robot.walk_status()? {
+                self.note_stuck(from, &outcome)?;
                 return Ok(Watched::Walked(outcome));
             }
             if self.robot.now() >= next_frame {
@@ -354,8 +407,20 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if rest.is_empty() {
             return Ok(WalkOutcome::Arrived);
         }
+        let from = self.position()?;
         self.robot.start_walk(rest)?;
-        self.wait(|r| r.walk_status())
+        let outcome = self.wait(|r| r.walk_status())?;
+        self.note_stuck(from, &outcome)?;
+        Ok(outcome)
+    }
+
+    /// Remembers where a walk that ended blocked before it got away stopped (see [`Self::plan_to`]);
+    /// any other end of a walk forgets it.
+    fn note_stuck(&mut self, from: Point2<f64>, outcome: &WalkOutcome) -> Result<(), Interrupt> {
+        let here = self.position()?;
+        let blocked = matches!(outcome, WalkOutcome::Blocked { .. });
+        self.world.stuck_at = (blocked && (here - from).norm() < STUCK_DISTANCE).then_some(here);
+        Ok(())
     }
 
     /// Walks to the stand pose of `intent` and turns to face the push.
@@ -365,19 +430,26 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(i) => return i.into(),
         };
         let stand = Point2::from(intent.stand.translation.vector);
+        let stuck = self
+            .world
+            .stuck_at
+            .is_some_and(|at| (at - here).norm() < STUCK_DISTANCE);
         let planned = self
             .world
             .push_plan
             .as_ref()
             .filter(|p| p.object == intent.target && (p.approach.start() - here).norm() < 0.05)
+            .filter(|_| !stuck)
             .map(|p| p.approach.clone());
         let path = match planned.map_or_else(|| self.plan_to(here, Some(stand)), Ok) {
             Ok(path) => path,
-            Err(_) => return Event::WalkBlocked,
+            Err(e) => { if std::env::var("NUDGE_DEBUG").is_ok() { eprintln!("plan_to failed from {here:?} to {stand:?}: {e}"); } return Event::WalkBlocked },
         };
         let stamp = self.robot.now();
         self.observer.path(stamp, path.waypoints());
+        if std::env::var("NUDGE_DEBUG").is_ok() { eprintln!("t={:.2} approach from {:?} stuck {} path {:?}", stamp, here, stuck, path.waypoints()); }
         let walked = self.walk(path.waypoints());
+        if std::env::var("NUDGE_DEBUG").is_ok() { eprintln!("  -> {:?} at {:?}", walked.as_ref().ok(), self.position().ok()); }
         let outcome = match walked {
             Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),
             other => other,

@@ -344,6 +344,30 @@ pub(crate) fn unseen_around(
     cells
 }
 
+/// The unseen cells (outside obstacles) within `radius` of `goal`, sorted: the goal region's floor
+/// nobody has seen. Empty when it was seen.
+pub(crate) fn unseen_around_goal(
+    grid: &ObstacleGrid,
+    memory: &SeenMemory,
+    prisms: &[Prism],
+    goal: Point2<f64>,
+    radius: f64,
+) -> Vec<usize> {
+    let geometry = grid.geometry();
+    let mut cells = Vec::new();
+    for_cells_in_disc(geometry, goal, radius, |i| {
+        if !memory.seen(grid, i)
+            && geometry
+                .cell_at(i)
+                .is_some_and(|c| !inside_any(prisms, &geometry.centre(c)))
+        {
+            cells.push(i);
+        }
+    });
+    cells.sort_unstable();
+    cells
+}
+
 /// The 8-connected regions of `cells` (sorted grid indices), largest first, each with `why`.
 pub(crate) fn regions(
     geometry: &GridGeometry,
@@ -400,7 +424,7 @@ pub(crate) fn regions(
         // The most frequent reason among its cells stands for the region.
         let mut reasons: Vec<UnseenWhy> = members.iter().map(|&i| why(i)).collect();
         reasons.sort_by_key(|w| match w {
-            UnseenWhy::NoViewpoint => 0u32,
+            UnseenWhy::NoViewpoint | UnseenWhy::BehindObstacles => 0u32,
             UnseenWhy::LookedAt(n) => *n,
             UnseenWhy::ViewLimit => u32::MAX,
         });

@@ -5,12 +5,12 @@ use nalgebra::Point2;
 use nudge_motion::view::{LookCoverage, Targets, ViewConfig, ViewScene, plan_view};
 use nudge_motion::{WayHypothesis, unseen_way};
 
-use super::unseen::{regions, unseen_along, unseen_around};
+use super::unseen::{regions, unseen_along, unseen_around, unseen_around_goal};
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::record::Observer;
 use crate::robot::Robot;
-use crate::view::{Question, UnseenRegion, Viewpoint};
+use crate::view::{Question, UnseenRegion, UnseenWhy, Viewpoint};
 
 /// What the view planner answered.
 pub(crate) enum Choice {
@@ -28,6 +28,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(e) => return Interrupt::Robot(e).into(),
         };
         let targets = self.targets(question, here);
+        if *question == Question::Way && targets.is_empty() {
+            return self.way_closed();
+        }
         let Some(grid) = self.world.grid.as_ref() else {
             return Event::NoView {
                 reason: "no obstacle-type grid: nothing is known of what was not seen".into(),
@@ -70,6 +73,26 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 reason,
                 unseen: self.unseen_regions(&targets),
             },
+        }
+    }
+
+    /// No unseen floor could open a way: the answer lists the goal region's floor nobody has seen
+    /// (where the robot would stand at the goal), behind the obstacles that close every way to it.
+    fn way_closed(&self) -> Event {
+        let unseen = self.world.grid.as_ref().map_or_else(Vec::new, |grid| {
+            let cells = unseen_around_goal(
+                grid,
+                &self.world.memory,
+                &self.world.prisms,
+                self.config.goal,
+                self.config.goal_tolerance + self.config.robot.radius,
+            );
+            regions(grid.geometry(), &cells, |_| UnseenWhy::BehindObstacles)
+        });
+        Event::NoView {
+            reason: "obstacles seen close every way to the goal: no unseen floor could open one"
+                .into(),
+            unseen,
         }
     }
 

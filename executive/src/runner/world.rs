@@ -48,6 +48,8 @@ pub(crate) struct WorldModel {
     pub looks: Vec<Point2<f64>>,
     /// How long the last look-around took (robot time, s): what the view planner weighs a look at.
     pub look_time: f64,
+    /// Where a walk was blocked before it got away (see the runner's `plan_to`).
+    pub stuck_at: Option<Point2<f64>>,
     /// The cells the viewpoint chosen last is predicted to show.
     pub view_cells: Option<Vec<usize>>,
     /// The cells the viewpoint the robot arrived at is predicted to show: after its look, those still
@@ -127,8 +129,8 @@ impl WorldModel {
             .map(move |f| self.validity_over(&obstacles, robot, config, config.clearance * f))
     }
 
-    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving that
-    /// no prism explains.
+    /// What the planner avoids: the prisms and, since motion reads the grid, what it saw moving or
+    /// standing (a wall seen while walking) that no prism explains.
     fn obstacles(&self, robot: &Point2<f64>, config: &RunConfig) -> Vec<Prism> {
         let mut obstacles = self.prisms.clone();
         if let Some(grid) = &self.grid {
@@ -137,6 +139,13 @@ impl WorldModel {
                 &self.prisms,
                 robot,
                 config.robot.radius,
+            ));
+            obstacles.extend(super::grid::stationary_obstacles(
+                grid,
+                &self.prisms,
+                robot,
+                config.robot.radius,
+                &self.last_motion,
             ));
         }
         obstacles

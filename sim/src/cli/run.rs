@@ -110,6 +110,23 @@ fn summarise(report: &RunReport, wall: f64) {
     for (id, why) in &explanation.unpushable {
         println!("unpushable   {id}: {why}");
     }
+    for (k, v) in explanation.views.iter().enumerate() {
+        println!(
+            "view {:<7} looked from ({:.2}, {:.2}) facing {:.0}° for {} ({:.2} m² predicted, {:.1} m walk)",
+            k + 1,
+            v.view.position.x,
+            v.view.position.y,
+            v.view.yaw.to_degrees(),
+            v.question.name(),
+            v.view.gain,
+            v.view.walk
+        );
+    }
+    if matches!(report.outcome, State::NoPathToGoal(_)) {
+        for r in &explanation.unseen {
+            println!("unseen       {r}");
+        }
+    }
     println!("robot time   {:.1} s", report.robot_time);
     println!("wall time    {wall:.2} s");
     if wall > 0.0 {
