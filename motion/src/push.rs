@@ -290,7 +290,12 @@ pub fn plan_push_over(
             approach,
         });
     }
-    Err(PushError::Unreachable(id))
+    // A reachable push refused only for unseen floor is what a look can change.
+    Err(if unseen {
+        PushError::UnseenFloor(id)
+    } else {
+        PushError::Unreachable(id)
+    })
 }
 
 /// A face of the footprint: its ends, inward push direction and the hand height on it.

@@ -147,7 +147,7 @@ fn cell_kinds(
             .footprint
             .iter()
             .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
-        let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+        let (Some(a), Some(b)) = (clamped_cell(grid, lo), clamped_cell(grid, hi)) else {
             continue;
         };
         for y in a.y..=b.y {
@@ -180,6 +180,17 @@ fn cell_kinds(
         }
     }
     kinds
+}
+
+/// The grid cell holding `p`, or the grid's cell nearest it when `p` lies outside.
+fn clamped_cell(grid: &ObstacleGrid, p: Point2<f64>) -> Option<CellIndex> {
+    let geometry = grid.geometry();
+    let (o, r) = (geometry.origin(), geometry.resolution());
+    let inner = |v: f64, lo: f64, n: usize| v.clamp(lo + r / 2.0, lo + (n as f64 - 0.5) * r);
+    geometry.cell_of(Point2::new(
+        inner(p.x, o.x, geometry.width()),
+        inner(p.y, o.y, geometry.height()),
+    ))
 }
 
 /// Lattice cells within `radius` (in cells) of a blocked one, blocked ones included.
@@ -218,7 +229,7 @@ fn guesses_along(
     let mut out = Vec::new();
     let mut visit = |p: Point2<f64>| {
         let r = nalgebra::Vector2::repeat(radius);
-        let (Some(a), Some(b)) = (geometry.cell_of(p - r), geometry.cell_of(p + r)) else {
+        let (Some(a), Some(b)) = (clamped_cell(grid, p - r), clamped_cell(grid, p + r)) else {
             return;
         };
         for y in a.y..=b.y {

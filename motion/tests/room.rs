@@ -249,3 +249,51 @@ fn the_push_that_opens_the_way_is_longer_by_the_margin_and_its_sweep_keeps_clear
     }
     check_push(&planned, &v);
 }
+
+/// Floor seen everywhere but in a box (x0..x1, y0..y1).
+struct SeenBut(f64, f64, f64, f64);
+
+impl nudge_motion::SeenFloor for SeenBut {
+    fn seen(&self, p: &nalgebra::Point2<f64>) -> bool {
+        !(p.x >= self.0 && p.x <= self.2 && p.y >= self.1 && p.y <= self.3)
+    }
+}
+
+#[test]
+fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
+    // Invariant: with the floor behind chair 1 unseen, its push is planned when that floor lies within the chair's own shadow, refused with UnseenFloor when the shadow is shorter than the sweep, and refused the same way when the robot would stand on unseen floor; with everything seen it is the plan made without a floor check.
+    let (v, p) = common::room();
+    let config = PushConfig::default();
+    let chair = prism(CHAIR_1);
+    let plan_with = |seen: &dyn nudge_motion::SeenFloor, own_shadow: f64| {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        nudge_motion::plan_push_over(
+            &chair,
+            &v,
+            &p.start(),
+            p.goal(),
+            &config,
+            Some(nudge_motion::FloorCheck { seen, own_shadow }),
+            &mut rng,
+        )
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let unchecked =
+        plan_push(&chair, &v, &p.start(), p.goal(), &config, &mut rng).expect("a push");
+    let everything = nudge_motion::AllSeen;
+    assert_eq!(plan_with(&everything, 0.0).as_ref(), Ok(&unchecked));
+    // The floor behind the chair (beyond its far face, x > 4.05) is unseen.
+    let behind = SeenBut(4.06, 0.0, 6.0, 3.6);
+    let shadowed = plan_with(&behind, 2.0).expect("pushed into its own shadow");
+    assert!(shadowed.opens_path);
+    assert_eq!(
+        plan_with(&behind, 0.05),
+        Err(nudge_motion::PushError::UnseenFloor(CHAIR_1))
+    );
+    // The floor in front of the chair, where the robot stands, is unseen.
+    let front = SeenBut(2.5, 0.0, 3.5, 1.6);
+    assert_eq!(
+        plan_with(&front, 10.0),
+        Err(nudge_motion::PushError::UnseenFloor(CHAIR_1))
+    );
+}

@@ -5,7 +5,11 @@ use nudge_executive::record::Observer;
 use nudge_executive::{CandidatePolicy, RunConfig, RunReport, Runner};
 use nudge_motion::RobotCylinder;
 
+use nudge_executive::runner::CameraModel;
+
 use crate::adapter::SimRobot;
+use crate::humanoid::HEAD_HEIGHT;
+use crate::sensors::colour_range::ColourRangeConfig;
 use crate::scenario::Scenario;
 use crate::world::WorldError;
 
@@ -26,6 +30,16 @@ pub fn run_config(scenario: &Scenario, seed: u64, policy: CandidatePolicy) -> Ru
     let margin = nalgebra::Vector2::repeat(GRID_MARGIN);
     let room = Point2::new(scenario.room.size[0], scenario.room.size[1]);
     config.grid.area = Some((Point2::origin() - margin, room + margin));
+    // Moving to see weighs walks by the scenario's walking speed and predicts what the simulated
+    // camera on the simulated head shows.
+    config.view.walk_speed = scenario.robot.walk_speed;
+    let sensor = ColourRangeConfig::default();
+    config.view.camera = CameraModel {
+        eye_height: HEAD_HEIGHT,
+        h_fov: sensor.h_fov_deg.to_radians(),
+        v_fov: sensor.v_fov_deg.to_radians(),
+        max_range: sensor.max_range,
+    };
     config
 }
 

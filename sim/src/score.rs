@@ -1,9 +1,9 @@
 //! Scoring a run against the simulation's ground truth: which scenario object each verdict was
 //! about, whether the verdict was right, and whether the run met its scenario's `[expect]` block.
 
+use nalgebra::Isometry3;
 use nalgebra::{Point2, Vector2};
 use nudge_executive::{RunReport, State, Verdict};
-use nalgebra::Isometry3;
 use nudge_perception::prism::convex_intersection_area;
 use nudge_perception::{ObjectId, Prism};
 

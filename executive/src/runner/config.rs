@@ -2,7 +2,9 @@
 
 use nalgebra::Point2;
 use nudge_motion::planner::rrt_connect::RrtConnect;
-use nudge_motion::{BlockingConfig, Budget, PushConfig, RobotCylinder, Shortcut, ValidityConfig};
+use nudge_motion::{
+    BlockingConfig, Budget, LookCoverage, PushConfig, RobotCylinder, Shortcut, ValidityConfig,
+};
 use nudge_perception::PerceptionConfig;
 use nudge_perception::grid::{ColumnReduction, DEFAULT_RESOLUTION, GridConfig};
 
@@ -207,6 +209,25 @@ pub struct RunConfig {
 }
 
 impl RunConfig {
+    /// The floor a look-around shows from where the robot stands: the head's camera through the
+    /// look-around's views ([`LookCoverage::from_camera`]); the paper's SR-4000 on HRP-2 when the
+    /// camera or the views make no sense.
+    pub fn look_coverage(&self) -> LookCoverage {
+        let camera = &self.view.camera;
+        let look = &self.perception.look_around;
+        let tilts: Vec<f64> = look.tilts_deg.iter().map(|t| t.to_radians()).collect();
+        let pans: Vec<f64> = look.pans_deg.iter().map(|p| p.to_radians()).collect();
+        LookCoverage::from_camera(
+            camera.eye_height,
+            camera.h_fov,
+            camera.v_fov,
+            camera.max_range,
+            &tilts,
+            &pans,
+        )
+        .unwrap_or_default()
+    }
+
     /// Defaults for a robot of `robot` size heading to `goal`.
     pub fn new(robot: RobotCylinder, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
         Self {

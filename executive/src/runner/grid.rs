@@ -84,6 +84,11 @@ pub(crate) fn moving_obstacles(
     out
 }
 
+/// Stationary cells this many cells or fewer outside a perceived obstacle's footprint are its own
+/// returns (a chair's legs under the edge of its seat, the hull a cell or two off the face it was made
+/// from), not a second obstacle beside it: a push that moves the obstacle moves them.
+const EDGE_CELLS: f64 = 2.0;
+
 /// Obstacles for the planner from cells the passive rules hold Stationary (three frames of returns
 /// in place: a wall seen while walking) that no perceived obstacle explains: until a look-around turns
 /// them into an obstacle, a path must not run through a wall the walk already saw. Cells within
@@ -125,7 +130,9 @@ pub(crate) fn stationary_obstacles(
         !active
             && (centre - robot).norm() >= keep_clear
             && !moved_near(x, y)
-            && !prisms.iter().any(|p| overlaps_cell(p, centre, half))
+            && !prisms
+                .iter()
+                .any(|p| overlaps_cell(p, centre, half + EDGE_CELLS * 2.0 * half))
     };
     // Open rectangles: (x0, x1, first row), keyed by their run.
     let mut open: Vec<(usize, usize, usize)> = Vec::new();
@@ -235,7 +242,7 @@ fn footprint_box(
 
 /// Whether the square cell of side `2 half` around `centre` overlaps `prism`'s convex footprint
 /// (separating axes: the square's two and the footprint's edge normals).
-fn overlaps_cell(prism: &Prism, centre: Point2<f64>, half: f64) -> bool {
+pub(crate) fn overlaps_cell(prism: &Prism, centre: Point2<f64>, half: f64) -> bool {
     let f = &prism.footprint;
     if f.len() < 3 {
         return false;

@@ -443,13 +443,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .map(|p| p.approach.clone());
         let path = match planned.map_or_else(|| self.plan_to(here, Some(stand)), Ok) {
             Ok(path) => path,
-            Err(e) => { if std::env::var("NUDGE_DEBUG").is_ok() { eprintln!("plan_to failed from {here:?} to {stand:?}: {e}"); } return Event::WalkBlocked },
+            Err(_) => return Event::WalkBlocked,
         };
         let stamp = self.robot.now();
         self.observer.path(stamp, path.waypoints());
-        if std::env::var("NUDGE_DEBUG").is_ok() { eprintln!("t={:.2} approach from {:?} stuck {} path {:?}", stamp, here, stuck, path.waypoints()); }
         let walked = self.walk(path.waypoints());
-        if std::env::var("NUDGE_DEBUG").is_ok() { eprintln!("  -> {:?} at {:?}", walked.as_ref().ok(), self.position().ok()); }
         let outcome = match walked {
             Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),
             other => other,

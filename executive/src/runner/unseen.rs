@@ -478,4 +478,87 @@ mod tests {
         assert_eq!(samples.len(), 4);
         assert!((samples[3].0 - 1.5).abs() < 1e-12);
     }
+
+    /// A 4 × 2 m grid with a memory that has seen every cell but those for which `unseen` holds.
+    fn seen_but(unseen: impl Fn(Point2<f64>) -> bool) -> (ObstacleGrid, SeenMemory) {
+        let geometry = GridGeometry::new(Point2::origin(), [4.0, 2.0], 0.05).expect("a grid");
+        let grid = ObstacleGrid::new(geometry, nudge_perception::grid::GridConfig::default());
+        let mut memory = SeenMemory::new(geometry.len());
+        for i in 0..geometry.len() {
+            let c = geometry.cell_at(i).expect("a cell");
+            if !unseen(geometry.centre(c)) {
+                memory.mark(i);
+            }
+        }
+        (grid, memory)
+    }
+
+    fn square(id: u32, x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
+        Prism {
+            id: nudge_perception::ObjectId(id),
+            footprint: vec![
+                Point2::new(x0, y0),
+                Point2::new(x1, y0),
+                Point2::new(x1, y1),
+                Point2::new(x0, y1),
+            ],
+            z_min: 0.0,
+            z_max: 0.8,
+            points: ColourCloud::empty(
+                nudge_perception::CloudFrame::Map,
+                nalgebra::Isometry3::identity(),
+                0.0,
+            ),
+        }
+    }
+
+    #[test]
+    fn a_walk_stops_only_for_a_strip_of_unseen_floor_across_its_way() {
+        // Invariant: unseen floor under the path counts once it adds up to the least area worth a look (here 0.035 m²), between the near and far distances only; a lone unseen cell or unseen floor beside the band does not count.
+        let path = [Point2::new(0.5, 1.0), Point2::new(3.5, 1.0)];
+        let ask = |grid: &ObstacleGrid, memory: &SeenMemory, window: (f64, f64)| {
+            first_unseen_along(grid, memory, &[], &path, window, 0.175, 0.035)
+        };
+        let (grid, memory) = seen_but(|p| (p - Point2::new(2.0, 1.0)).norm() < 0.03);
+        assert_eq!(ask(&grid, &memory, (0.0, 3.0)), None);
+        let (grid, memory) = seen_but(|p| (p.y - 1.6).abs() < 0.2);
+        assert_eq!(ask(&grid, &memory, (0.0, 3.0)), None);
+        let strip = |p: Point2<f64>| (2.0..2.15).contains(&p.x);
+        let (grid, memory) = seen_but(strip);
+        let at = ask(&grid, &memory, (0.0, 3.0)).expect("a strip across the way");
+        assert!((1.3..1.85).contains(&at), "{at}");
+        assert_eq!(ask(&grid, &memory, (0.0, 1.0)), None);
+        assert_eq!(ask(&grid, &memory, (1.9, 3.0)), None);
+    }
+
+    #[test]
+    fn the_floor_that_matters_to_a_push_leaves_out_the_insides_of_obstacles() {
+        // Invariant: the unseen floor around an object to push lies within the ring of its footprint and outside every obstacle, its own inside and its neighbour's included.
+        let (grid, memory) = seen_but(|p| p.x > 1.0);
+        let object = square(1, 1.5, 0.8, 2.0, 1.3);
+        let beside = square(2, 2.3, 0.8, 2.8, 1.3);
+        let cells = unseen_around(&grid, &memory, &object, &[object.clone(), beside.clone()], 0.5);
+        assert!(!cells.is_empty());
+        let geometry = grid.geometry();
+        for &i in &cells {
+            let p = geometry.centre(geometry.cell_at(i).expect("a cell"));
+            assert!(!object.contains_xy(&p) && !beside.contains_xy(&p), "{p}");
+            let outline = nudge_motion::Obstacle::from_prism(&object).expect("an outline");
+            assert!(outline.distance_to_point(&p) <= 0.5 + 1e-9, "{p}");
+        }
+    }
+
+    #[test]
+    fn a_cell_two_looks_failed_to_show_is_given_up() {
+        // Invariant: an unseen cell stays open after one look predicted to show it failed, and is given up after the second, with the count as its reason; a cell seen meanwhile is not counted.
+        let (grid, mut memory) = seen_but(|p| p.x < 0.2);
+        let unseen = 0;
+        let seen = grid.geometry().len() - 1;
+        memory.fail_unseen(&grid, &[unseen, seen]);
+        assert!(memory.open(&grid, unseen));
+        assert_eq!(memory.failed_looks[seen], 0);
+        memory.fail_unseen(&grid, &[unseen]);
+        assert!(!memory.open(&grid, unseen));
+        assert_eq!(memory.why(unseen), UnseenWhy::LookedAt(2));
+    }
 }

@@ -2,7 +2,7 @@
 
 use nalgebra::Point2;
 
-use nudge_motion::view::{LookCoverage, Targets, ViewConfig, ViewScene, plan_view};
+use nudge_motion::view::{Targets, ViewConfig, ViewScene, plan_view};
 use nudge_motion::{WayHypothesis, unseen_way};
 
 use super::unseen::{regions, unseen_along, unseen_around, unseen_around_goal};
@@ -218,7 +218,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             seen_floor: Some(&self.world.memory.seen),
         };
         let config = ViewConfig {
-            coverage: self.coverage(),
+            coverage: self.config.look_coverage(),
             walk_speed: self.config.view.walk_speed,
             look_time: self.world.look_time.max(1e-3),
             lattice_factor: 2,
@@ -242,22 +242,5 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             Err(e) => Choice::None(e.to_string()),
         }
-    }
-
-    /// The floor a look-around shows: the head's camera through the look-around's views.
-    pub(crate) fn coverage(&self) -> LookCoverage {
-        let camera = &self.config.view.camera;
-        let look = &self.config.perception.look_around;
-        let tilts: Vec<f64> = look.tilts_deg.iter().map(|t| t.to_radians()).collect();
-        let pans: Vec<f64> = look.pans_deg.iter().map(|p| p.to_radians()).collect();
-        LookCoverage::from_camera(
-            camera.eye_height,
-            camera.h_fov,
-            camera.v_fov,
-            camera.max_range,
-            &tilts,
-            &pans,
-        )
-        .unwrap_or_default()
     }
 }

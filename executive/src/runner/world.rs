@@ -238,7 +238,8 @@ impl WorldModel {
         // A pushed object seen again is no longer a prediction.
         self.pushed.retain(|id| !absorbed.contains(id));
         for old in &self.prisms {
-            if !absorbed.contains(&old.id) && (settled(old) || !seen_floor(old, None)) {
+            let gone = seen_floor(old, None) || self.grid_sees_free(old);
+            if !absorbed.contains(&old.id) && (settled(old) || !gone) {
                 current.push(old.clone());
             }
         }
@@ -253,6 +254,35 @@ impl WorldModel {
         });
         self.prisms = current;
         self.merge_fragments(floor_points, config);
+    }
+
+    /// Whether the grid holds every cell `prism`'s footprint overlaps Free: it saw floor all over
+    /// where the obstacle was (a sliver left where an object stood before a push, too small to hold
+    /// the look's floor points that forget larger ones).
+    fn grid_sees_free(&self, prism: &Prism) -> bool {
+        let Some(grid) = &self.grid else {
+            return false;
+        };
+        let geometry = grid.geometry();
+        let half = geometry.resolution() / 2.0;
+        let (lo, hi) = footprint_box(prism);
+        let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+            return false;
+        };
+        let mut any = false;
+        for y in a.y..=b.y {
+            for x in a.x..=b.x {
+                let cell = nudge_perception::grid::CellIndex { x, y };
+                if !super::grid::overlaps_cell(prism, geometry.centre(cell), half) {
+                    continue;
+                }
+                if grid.class(cell) != Some(nudge_perception::grid::CellClass::Free) {
+                    return false;
+                }
+                any = true;
+            }
+        }
+        any
     }
 
     /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
@@ -284,9 +314,10 @@ impl WorldModel {
             .take(n)
             .count()
             >= n
-            || self.grid.as_ref().is_some_and(|g| {
-                free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA
-            })
+            || self
+                .grid
+                .as_ref()
+                .is_some_and(|g| free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA)
     }
 
     /// Merges obstacles that are pieces of one thing: footprints within a grid cell of each other,
@@ -329,8 +360,7 @@ impl WorldModel {
                     if added > SURFACE_GAP * extent(&hull) / 2.0 {
                         continue;
                     }
-                    let touching =
-                        apart <= gap && !self.floor_between(a, b, floor_points, config);
+                    let touching = apart <= gap && !self.floor_between(a, b, floor_points, config);
                     // Pieces of one object's surfaces (a table's edge seen from 4 m, floor showing
                     // under its top): points within the sensor's spacing, and together no larger
                     // than an object to push (a chair beside a wall stays a chair).
@@ -778,8 +808,10 @@ pub(super) mod tests {
         };
         for x in steps(x0, x1) {
             for y in steps(y0, y1) {
-                p.points
-                    .push(nalgebra::Point3::new(x as f32, y as f32, z as f32), [90, 60, 30]);
+                p.points.push(
+                    nalgebra::Point3::new(x as f32, y as f32, z as f32),
+                    [90, 60, 30],
+                );
             }
         }
         p
@@ -807,7 +839,11 @@ pub(super) mod tests {
             .iter()
             .find(|p| p.contains_xy(&Point2::new(8.15, 1.5)))
             .expect("the table's edge");
-        assert!(edge.contains_xy(&Point2::new(8.15, 2.2)), "{:?}", world.prisms);
+        assert!(
+            edge.contains_xy(&Point2::new(8.15, 2.2)),
+            "{:?}",
+            world.prisms
+        );
         assert_eq!(edge.id, ObjectId(7));
         assert_eq!(edge.points.len(), left.points.len() + right.points.len());
         assert!(world.prisms.iter().any(|p| p.id == ObjectId(12)));

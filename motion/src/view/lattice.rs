@@ -160,7 +160,11 @@ impl Lattice {
         let (w, h, k) = (geom.width(), geom.height(), self.factor);
         let codes = grid.class_codes();
         let free = CellClass::Free.code();
-        let bit = |i: usize| extra.get(i / 64).is_some_and(|word| word & (1 << (i % 64)) != 0);
+        let bit = |i: usize| {
+            extra
+                .get(i / 64)
+                .is_some_and(|word| word & (1 << (i % 64)) != 0)
+        };
         for ly in 0..self.rows {
             for lx in 0..self.cols {
                 let at = (ly + 1) * (self.cols + 2) + lx + 1;

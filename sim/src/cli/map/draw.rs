@@ -6,7 +6,7 @@ use std::path::Path;
 
 use anyhow::{Context, anyhow};
 use nalgebra::{Point2, Vector2};
-use nudge_executive::Verdict;
+use nudge_executive::{Question, Verdict};
 use nudge_perception::grid::CellClass;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -34,6 +34,9 @@ const PRISM: RGBColor = RGBColor(230, 140, 20);
 const TRUTH: RGBColor = RGBColor(120, 120, 120);
 const GOAL: RGBColor = RGBColor(0, 170, 0);
 const UNTESTED: RGBColor = RGBColor(230, 140, 20);
+const VIEW: RGBColor = RGBColor(0, 140, 200);
+/// Radius of the wedge drawn for a viewpoint's look-around (m): a marker, not the camera's range.
+const VIEW_WEDGE: f64 = 0.8;
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
@@ -163,6 +166,30 @@ fn draw_map(run: &MapCollector, area: &Area<'_>, right: u32) -> DrawResult {
         run.track.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
         TRACK.stroke_width(2),
     )))?;
+    // The viewpoints chosen: where the robot stood and the span of its look-around.
+    for (k, (question, view)) in run.views.iter().enumerate() {
+        chart.draw_series(std::iter::once(PathElement::new(
+            wedge(view.position, view.yaw, run.look_half_angle),
+            VIEW.stroke_width(2),
+        )))?;
+        chart.draw_series(std::iter::once(Circle::new(
+            (view.position.x, view.position.y),
+            5,
+            VIEW.filled(),
+        )))?;
+        if text {
+            let what = match question {
+                Question::PathAhead => "path ahead".to_string(),
+                Question::Way => "a way".to_string(),
+                Question::Push { target, .. } => format!("push {target}"),
+            };
+            chart.draw_series(std::iter::once(Text::new(
+                format!("V{}: {what}", k + 1),
+                (view.position.x + 0.08, view.position.y - 0.12),
+                ("sans-serif", 14).into_font().color(&VIEW),
+            )))?;
+        }
+    }
     let start = run.scenario.robot.start_position();
     let goal = &run.scenario.goal;
     let px = |m: f64| ((m * area.dim_in_pixel().0 as f64 / room[0]).round() as i32).max(3);
@@ -260,7 +287,7 @@ fn caption(run: &MapCollector) -> String {
         ""
     };
     format!(
-        "{}: {grid}obstacles (orange), true objects (grey), track (purple), paths (green), pushes (blue movable, black static)",
+        "{}: {grid}obstacles (orange), true objects (grey), track (purple), paths (green), pushes (blue movable, black static), viewpoints (cyan)",
         run.scenario.name
     )
 }
@@ -295,6 +322,17 @@ fn centroid(corners: &[Point2<f64>]) -> Option<Point2<f64>> {
         let sum = corners.iter().fold(Vector2::zeros(), |a, p| a + p.coords);
         Point2::from(sum / corners.len() as f64)
     })
+}
+
+/// The outline of a look-around's span from `at` facing `yaw`: two edges `half` either side and the
+/// arc between them, [`VIEW_WEDGE`] long.
+fn wedge(at: Point2<f64>, yaw: f64, half: f64) -> Vec<(f64, f64)> {
+    const ARC: usize = 24;
+    let point = |a: f64| (at.x + VIEW_WEDGE * a.cos(), at.y + VIEW_WEDGE * a.sin());
+    let mut out = vec![(at.x, at.y)];
+    out.extend((0..=ARC).map(|k| point(yaw - half + 2.0 * half * k as f64 / ARC as f64)));
+    out.push((at.x, at.y));
+    out
 }
 
 /// A shaft and a two-stroke head, 0.12 m long.

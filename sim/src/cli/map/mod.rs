@@ -76,6 +76,8 @@ pub struct MapCollector {
     pub verdicts: Vec<(ObjectId, Verdict)>,
     /// Every viewpoint the robot set out for, in order, with what it was to show.
     pub views: Vec<(Question, Viewpoint)>,
+    /// Half the angle a look-around spans about the body's heading (rad), for drawing viewpoints.
+    pub look_half_angle: f64,
     in_test: bool,
 }
 
@@ -92,6 +94,13 @@ impl MapCollector {
             tests: Vec::new(),
             verdicts: Vec::new(),
             views: Vec::new(),
+            look_half_angle: nudge_sim::run::run_config(
+                scenario,
+                scenario.seed,
+                nudge_executive::CandidatePolicy::Nearest,
+            )
+            .look_coverage()
+            .half_angle,
             in_test: false,
         }
     }
