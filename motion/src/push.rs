@@ -50,6 +50,8 @@ pub struct PushConfig {
     pub face_band: f64,
     /// Faces shorter than this are not pushed (m).
     pub min_face: f64,
+    /// Half the width of the hand (m): its way to the contact keeps this clear of other obstacles.
+    pub hand_half_width: f64,
     /// Least gap (m) the object's sweep keeps from every other obstacle. A real object turns a little
     /// as it slides and its footprint is known to a few centimetres: a sweep that grazes a corner
     /// (a wall's end beside a doorway) catches on it and jams or swings into the way.
@@ -82,6 +84,7 @@ impl Default for PushConfig {
             hand_below_top: 0.05,
             face_band: 0.05,
             min_face: 0.1,
+            hand_half_width: 0.05,
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
@@ -301,6 +304,7 @@ pub fn plan_push_over(
 /// A face of the footprint: its ends, inward push direction and the hand height on it.
 #[derive(Clone, Debug)]
 struct Face {
+    object: ObjectId,
     a: Point2<f64>,
     b: Point2<f64>,
     direction: Unit<Vector2<f64>>,
@@ -322,6 +326,7 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
             continue;
         };
         let face = Face {
+            object: object.id(),
             a,
             b,
             direction: Unit::new_unchecked(-outward.into_inner()),
@@ -431,7 +436,9 @@ fn stance_for(
                     continue;
                 }
                 let stand = contact - d * standoff + tangent * lateral;
-                if !validity.is_free(&stand) {
+                if !validity.is_free(&stand)
+                    || !hand_line_clear(face, &contact, standoff, validity, config)
+                {
                     continue;
                 }
                 if floor.is_some_and(|f| !f.stands(&stand, r)) {
@@ -448,6 +455,28 @@ fn stance_for(
         }
     }
     Err(miss)
+}
+
+/// Whether the hand's way from the body to `contact` (along the push, from its nearest reach) keeps
+/// clear of every other obstacle at the hand's height: a hand reaching past a table's leg to the
+/// table's far face, or past one object to the next, would strike the first before any guard.
+fn hand_line_clear(
+    face: &Face,
+    contact: &Point2<f64>,
+    standoff: f64,
+    validity: &Validity,
+    config: &PushConfig,
+) -> bool {
+    let d = face.direction.into_inner();
+    let from = contact - d * (standoff - config.reach_x.0).max(0.0);
+    // The contact point itself lies on the object's face, and on nothing else.
+    let to = contact - d * config.hand_half_width;
+    validity
+        .obstacles()
+        .iter()
+        .filter(|o| o.id() != face.object)
+        .filter(|o| o.z_min() <= face.hand_height && face.hand_height <= o.z_max())
+        .all(|o| o.distance_to_segment(&from, &to) > config.hand_half_width)
 }
 
 /// Valid pushes from `stance`, shortest first: the first that opens a path ends the list, since a

@@ -278,8 +278,7 @@ fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
         )
     };
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let unchecked =
-        plan_push(&chair, &v, &p.start(), p.goal(), &config, &mut rng).expect("a push");
+    let unchecked = plan_push(&chair, &v, &p.start(), p.goal(), &config, &mut rng).expect("a push");
     let everything = nudge_motion::AllSeen;
     assert_eq!(plan_with(&everything, 0.0).as_ref(), Ok(&unchecked));
     // The floor behind the chair (beyond its far face, x > 4.05) is unseen.

@@ -74,7 +74,10 @@ fn a_hull_over_an_unseen_door_is_a_way_through_the_door() {
     assert!(!cells.is_empty());
     for &i in &cells {
         let p = centre(i);
-        assert!((2.95..=3.05).contains(&p.x), "{p} is not in the partition's hull");
+        assert!(
+            (2.95..=3.05).contains(&p.x),
+            "{p} is not in the partition's hull"
+        );
         assert!((1.5..=2.5).contains(&p.y), "{p} is not in the doorway");
     }
 }
@@ -108,4 +111,3 @@ fn floor_outside_every_hull_is_no_guess() {
         WayHypothesis::Through(Vec::new())
     );
 }
-

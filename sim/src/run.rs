@@ -9,8 +9,8 @@ use nudge_executive::runner::CameraModel;
 
 use crate::adapter::SimRobot;
 use crate::humanoid::HEAD_HEIGHT;
-use crate::sensors::colour_range::ColourRangeConfig;
 use crate::scenario::Scenario;
+use crate::sensors::colour_range::ColourRangeConfig;
 use crate::world::WorldError;
 
 /// How far the obstacle-type grid reaches past the room's inner walls (m): the walls' own cells.

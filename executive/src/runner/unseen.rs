@@ -537,7 +537,13 @@ mod tests {
         let (grid, memory) = seen_but(|p| p.x > 1.0);
         let object = square(1, 1.5, 0.8, 2.0, 1.3);
         let beside = square(2, 2.3, 0.8, 2.8, 1.3);
-        let cells = unseen_around(&grid, &memory, &object, &[object.clone(), beside.clone()], 0.5);
+        let cells = unseen_around(
+            &grid,
+            &memory,
+            &object,
+            &[object.clone(), beside.clone()],
+            0.5,
+        );
         assert!(!cells.is_empty());
         let geometry = grid.geometry();
         for &i in &cells {
