@@ -238,7 +238,11 @@ impl WorldModel {
         // A pushed object seen again is no longer a prediction.
         self.pushed.retain(|id| !absorbed.contains(id));
         for old in &self.prisms {
-            let gone = seen_floor(old, None) || self.grid_sees_free(old);
+            // Floor seen inside an obstacle the look did not find again means it was moved away,
+            // unless the grid still holds returns there (the legs of a chair seen from afar, the
+            // floor under its seat in view).
+            let gone = (seen_floor(old, None) && !self.grid_holds_returns(old))
+                || self.grid_sees_free(old);
             if !absorbed.contains(&old.id) && (settled(old) || !gone) {
                 current.push(old.clone());
             }
@@ -256,33 +260,46 @@ impl WorldModel {
         self.merge_fragments(floor_points, config);
     }
 
-    /// Whether the grid holds every cell `prism`'s footprint overlaps Free: it saw floor all over
-    /// where the obstacle was (a sliver left where an object stood before a push, too small to hold
-    /// the look's floor points that forget larger ones).
-    fn grid_sees_free(&self, prism: &Prism) -> bool {
+    /// Whether the grid holds an obstacle class (Stationary, Movable, Moving) in a cell `prism`'s
+    /// footprint overlaps: something still returns there.
+    fn grid_holds_returns(&self, prism: &Prism) -> bool {
+        self.cells_under(prism)
+            .iter()
+            .any(|class| class.is_some_and(nudge_perception::grid::CellClass::is_obstacle))
+    }
+
+    /// The classes of the grid cells `prism`'s footprint overlaps (empty without a grid).
+    fn cells_under(&self, prism: &Prism) -> Vec<Option<nudge_perception::grid::CellClass>> {
         let Some(grid) = &self.grid else {
-            return false;
+            return Vec::new();
         };
         let geometry = grid.geometry();
         let half = geometry.resolution() / 2.0;
         let (lo, hi) = footprint_box(prism);
         let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
-            return false;
+            return Vec::new();
         };
-        let mut any = false;
+        let mut out = Vec::new();
         for y in a.y..=b.y {
             for x in a.x..=b.x {
                 let cell = nudge_perception::grid::CellIndex { x, y };
-                if !super::grid::overlaps_cell(prism, geometry.centre(cell), half) {
-                    continue;
+                if super::grid::overlaps_cell(prism, geometry.centre(cell), half) {
+                    out.push(grid.class(cell));
                 }
-                if grid.class(cell) != Some(nudge_perception::grid::CellClass::Free) {
-                    return false;
-                }
-                any = true;
             }
         }
-        any
+        out
+    }
+
+    /// Whether the grid holds every cell `prism`'s footprint overlaps Free: it saw floor all over
+    /// where the obstacle was (a sliver left where an object stood before a push, too small to hold
+    /// the look's floor points that forget larger ones).
+    fn grid_sees_free(&self, prism: &Prism) -> bool {
+        let classes = self.cells_under(prism);
+        !classes.is_empty()
+            && classes
+                .iter()
+                .all(|c| *c == Some(nudge_perception::grid::CellClass::Free))
     }
 
     /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
@@ -320,7 +337,7 @@ impl WorldModel {
                 .is_some_and(|g| free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA)
     }
 
-    /// Merges obstacles that are pieces of one thing: footprints within a grid cell of each other,
+    /// Merges obstacles that are pieces of one thing: footprints within two grid cells of each other,
     /// height ranges that meet, and no floor seen between them (see [`Self::floor_between`]). A
     /// surface seen obliquely or from far (a wall, a table's top at 4 m) comes out of perception in
     /// pieces whose gaps are where its points thinned out; planning around the pieces is the same as
@@ -328,10 +345,12 @@ impl WorldModel {
     /// push test's verdict stay apart; a merge keeps the id of the one that has a verdict (else the
     /// older id).
     fn merge_fragments(&mut self, floor_points: &ColourCloud, config: &RunConfig) {
-        let gap = self
-            .grid
-            .as_ref()
-            .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
+        // Two cells: a hull's edge runs a cell off the face it was made from, on either side.
+        let gap = 2.0
+            * self
+                .grid
+                .as_ref()
+                .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
         let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
         loop {
             let outlines: Vec<Option<nudge_motion::Obstacle>> = self
