@@ -584,9 +584,9 @@ fn sweep_on_seen_floor(object: &Obstacle, swept: &Obstacle, floor: &FloorCheck<'
                 b.min.x + i as f64 * SWEEP_SAMPLE,
                 b.min.y + j as f64 * SWEEP_SAMPLE,
             );
-            !swept.contains(&p)
+            floor.seen.seen(&p)
+                || !swept.contains(&p)
                 || object.contains(&p)
-                || floor.seen.seen(&p)
                 || object.distance_to_point(&p) <= floor.own_shadow
         })
     })

@@ -193,7 +193,11 @@ pub(crate) fn stationary_obstacles(
 
 /// Per cell, whether it lies within `radius` of a cell ever seen moving (`moved`: per cell, when it
 /// was last seen moving, NaN for never); `None` when nothing ever moved.
-fn near_motion(geometry: &GridGeometry, moved: &[f64], radius: f64) -> Option<Vec<bool>> {
+pub(crate) fn near_motion(
+    geometry: &GridGeometry,
+    moved: &[f64],
+    radius: f64,
+) -> Option<Vec<bool>> {
     let cells: Vec<usize> = moved
         .iter()
         .enumerate()

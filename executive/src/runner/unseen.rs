@@ -48,10 +48,26 @@ impl SeenMemory {
 
     /// Marks the cells holding `points` (map frame) as seen.
     pub fn saw(&mut self, geometry: &GridGeometry, points: &ColourCloud) {
-        for (_, p, _) in points.iter_valid() {
-            let q = Point2::new(f64::from(p.x), f64::from(p.y));
-            if let Some(i) = geometry.cell_of(q).and_then(|c| geometry.index(c)) {
+        // A look holds some 10⁵ floor points: cells by one multiplication per coordinate, and a
+        // run of points in one cell (neighbouring pixels) marks it once.
+        let (o, inv) = (geometry.origin(), 1.0 / geometry.resolution());
+        let (w, h) = (geometry.width() as i64, geometry.height() as i64);
+        let mut last = usize::MAX;
+        for (x, y) in points.xs().iter().zip(points.ys()) {
+            if !(x.is_finite() && y.is_finite()) {
+                continue;
+            }
+            let (cx, cy) = (
+                ((f64::from(*x) - o.x) * inv).floor() as i64,
+                ((f64::from(*y) - o.y) * inv).floor() as i64,
+            );
+            if cx < 0 || cy < 0 || cx >= w || cy >= h {
+                continue;
+            }
+            let i = (cy * w + cx) as usize;
+            if i != last {
                 self.mark(i);
+                last = i;
             }
         }
     }

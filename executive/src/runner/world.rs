@@ -209,6 +209,12 @@ impl WorldModel {
                 >= config.forget_after_floor_points
         };
         let floor_between = |a: &Prism, b: &Prism| self.floor_between(a, b, floor_points, config);
+        // Cells near where something was ever seen moving: their returns may be a person who
+        // stopped there and walked on (the grid clears a stationary cell only when crossed twice in a
+        // row, which a look-around's panning views rarely do).
+        let moved = self.grid.as_ref().and_then(|g| {
+            super::grid::near_motion(g.geometry(), &self.last_motion, g.config().rest_radius)
+        });
         let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
         let settled = |p: &Prism| self.settled.contains(&p.id);
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
@@ -241,7 +247,7 @@ impl WorldModel {
             // Floor seen inside an obstacle the look did not find again means it was moved away,
             // unless the grid still holds returns there (the legs of a chair seen from afar, the
             // floor under its seat in view).
-            let gone = (seen_floor(old, None) && !self.grid_holds_returns(old))
+            let gone = (seen_floor(old, None) && !self.grid_holds_returns(old, moved.as_deref()))
                 || self.grid_sees_free(old);
             if !absorbed.contains(&old.id) && (settled(old) || !gone) {
                 current.push(old.clone());
@@ -261,15 +267,20 @@ impl WorldModel {
     }
 
     /// Whether the grid holds an obstacle class (Stationary, Movable, Moving) in a cell `prism`'s
-    /// footprint overlaps: something still returns there.
-    fn grid_holds_returns(&self, prism: &Prism) -> bool {
-        self.cells_under(prism)
-            .iter()
-            .any(|class| class.is_some_and(nudge_perception::grid::CellClass::is_obstacle))
+    /// footprint overlaps, away from every cell `moved` marks (near motion ever seen): something
+    /// that does not move by itself still returns there.
+    fn grid_holds_returns(&self, prism: &Prism, moved: Option<&[bool]>) -> bool {
+        self.cells_under(prism).iter().any(|(i, class)| {
+            class.is_some_and(nudge_perception::grid::CellClass::is_obstacle)
+                && !moved.is_some_and(|m| m.get(*i).copied().unwrap_or(false))
+        })
     }
 
-    /// The classes of the grid cells `prism`'s footprint overlaps (empty without a grid).
-    fn cells_under(&self, prism: &Prism) -> Vec<Option<nudge_perception::grid::CellClass>> {
+    /// The indices and classes of the grid cells `prism`'s footprint overlaps (empty without a grid).
+    fn cells_under(
+        &self,
+        prism: &Prism,
+    ) -> Vec<(usize, Option<nudge_perception::grid::CellClass>)> {
         let Some(grid) = &self.grid else {
             return Vec::new();
         };
@@ -283,8 +294,10 @@ impl WorldModel {
         for y in a.y..=b.y {
             for x in a.x..=b.x {
                 let cell = nudge_perception::grid::CellIndex { x, y };
-                if super::grid::overlaps_cell(prism, geometry.centre(cell), half) {
-                    out.push(grid.class(cell));
+                if super::grid::overlaps_cell(prism, geometry.centre(cell), half)
+                    && let Some(i) = geometry.index(cell)
+                {
+                    out.push((i, grid.class(cell)));
                 }
             }
         }
@@ -299,7 +312,7 @@ impl WorldModel {
         !classes.is_empty()
             && classes
                 .iter()
-                .all(|c| *c == Some(nudge_perception::grid::CellClass::Free))
+                .all(|(_, c)| *c == Some(nudge_perception::grid::CellClass::Free))
     }
 
     /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
@@ -379,14 +392,15 @@ impl WorldModel {
                     if added > SURFACE_GAP * extent(&hull) / 2.0 {
                         continue;
                     }
-                    let touching = apart <= gap && !self.floor_between(a, b, floor_points, config);
                     // Pieces of one object's surfaces (a table's edge seen from 4 m, floor showing
                     // under its top): points within the sensor's spacing, and together no larger
                     // than an object to push (a chair beside a wall stays a chair).
                     let one_surface = apart <= SURFACE_GAP
                         && extent(&hull) <= config.max_candidate_extent
-                        && point_gap(a, b, SURFACE_GAP) <= SURFACE_GAP;
-                    if !touching && !one_surface {
+                        && points_within(a, b, SURFACE_GAP);
+                    let touching =
+                        || apart <= gap && !self.floor_between(a, b, floor_points, config);
+                    if !one_surface && !touching() {
                         continue;
                     }
                     pair = Some((i, j));
@@ -490,27 +504,50 @@ fn free_area_where(
 /// 80° incidence limit, are 5 m × 0.25° / cos 80° ≈ 12.5 cm apart.
 const SURFACE_GAP: f64 = 0.125;
 
-/// The least distance between a point of `a` and a point of `b` (3D, m), or infinity; pairs farther
-/// apart than `within` in x or y are skipped early.
-fn point_gap(a: &Prism, b: &Prism, within: f64) -> f64 {
-    let near: Vec<[f32; 3]> = b
-        .points
-        .iter_valid()
-        .map(|(_, q, _)| [q.x, q.y, q.z])
-        .collect();
-    let within = within as f32;
-    let mut best = f32::INFINITY;
-    for (_, p, _) in a.points.iter_valid() {
-        for q in &near {
-            let (dx, dy) = (p.x - q[0], p.y - q[1]);
-            if dx.abs() > within || dy.abs() > within {
-                continue;
-            }
-            let dz = p.z - q[2];
-            best = best.min((dx * dx + dy * dy + dz * dz).sqrt());
-        }
+/// Whether a point of `a` lies within `within` (3D, m) of a point of `b`: `b`'s points binned in
+/// cubes of that side, each of `a`'s checked against the 27 cubes around its own.
+fn points_within(a: &Prism, b: &Prism, within: f64) -> bool {
+    // Only points near the other's footprint can be near its points.
+    let near = |p: &Prism, of: &Prism| -> Vec<[f32; 3]> {
+        let (lo, hi) = footprint_box(of);
+        p.points
+            .iter_valid()
+            .filter(|(_, q, _)| {
+                let (x, y) = (f64::from(q.x), f64::from(q.y));
+                x >= lo.x - within && y >= lo.y - within && x <= hi.x + within && y <= hi.y + within
+            })
+            .map(|(_, q, _)| [q.x, q.y, q.z])
+            .collect()
+    };
+    let key = |q: &[f32; 3]| {
+        let k = |v: f32| (f64::from(v) / within).floor() as i64;
+        (k(q[0]), k(q[1]), k(q[2]))
+    };
+    let (from_a, from_b) = (near(a, b), near(b, a));
+    if from_a.is_empty() || from_b.is_empty() {
+        return false;
     }
-    f64::from(best)
+    let mut bins: std::collections::BTreeMap<(i64, i64, i64), Vec<[f32; 3]>> =
+        std::collections::BTreeMap::new();
+    for q in from_b {
+        bins.entry(key(&q)).or_default().push(q);
+    }
+    let w2 = (within * within) as f32;
+    from_a.iter().any(|p| {
+        let (i, j, k) = key(p);
+        (-1..=1).any(|di| {
+            (-1..=1).any(|dj| {
+                (-1..=1).any(|dk| {
+                    bins.get(&(i + di, j + dj, k + dk)).is_some_and(|pts| {
+                        pts.iter().any(|q| {
+                            let (dx, dy, dz) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+                            dx * dx + dy * dy + dz * dz <= w2
+                        })
+                    })
+                })
+            })
+        })
+    })
 }
 
 /// Area of the polygon `f` (m², shoelace; either winding).
