@@ -119,12 +119,18 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 // hidden side, floor behind it, an outline put together from pieces seen from far)
                 // is still worth a look before it is given up.
                 let seen_in_part = !allow_unseen && self.seen_in_part(&prism);
+                let (outline, from) = self.world.outline_seen(&prism);
+                let why = if unseen {
+                    PushError::UnseenFloor(target).to_string()
+                } else {
+                    e.to_string()
+                };
                 Event::NoPushPlan {
-                    reason: if unseen {
-                        PushError::UnseenFloor(target).to_string()
-                    } else {
-                        e.to_string()
-                    },
+                    reason: format!(
+                        "{why} ({:.0} % of its outline seen, from {} place(s))",
+                        outline * 100.0,
+                        from.len()
+                    ),
                     unseen: unseen || seen_in_part,
                 }
             }

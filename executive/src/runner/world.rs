@@ -50,6 +50,8 @@ pub(crate) struct WorldModel {
     pub look_time: f64,
     /// Where a walk was blocked before it got away (see the runner's `plan_to`).
     pub stuck_at: Option<Point2<f64>>,
+    /// Per obstacle, the places the looks that showed it were taken from.
+    pub seen_from: std::collections::BTreeMap<ObjectId, Vec<Point2<f64>>>,
     /// The cells the viewpoint chosen last is predicted to show.
     pub view_cells: Option<Vec<usize>>,
     /// The cells the viewpoint the robot arrived at is predicted to show: after its look, those still
@@ -193,6 +195,8 @@ impl WorldModel {
         robot: &Point2<f64>,
         config: &RunConfig,
     ) {
+        let outlines: Vec<Vec<Point2<f64>>> =
+            detected.iter().map(|p| p.footprint.clone()).collect();
         // The robot cannot stand inside an object: what it stands on was moved (or never was).
         let radius = config.robot.radius;
         self.prisms.retain(|p| !prism_covers_disc(p, robot, radius));
@@ -264,6 +268,61 @@ impl WorldModel {
         });
         self.prisms = current;
         self.merge_fragments(floor_points, config);
+        // Where each obstacle the look showed was seen from.
+        for prism in &self.prisms {
+            let shown = outlines.iter().any(|o| {
+                nudge_perception::prism::convex_intersection_area(o, &prism.footprint) > 0.0
+            });
+            let from = self.seen_from.entry(prism.id).or_default();
+            if shown && !from.iter().any(|p| (p - robot).norm() < SAME_PLACE) {
+                from.push(*robot);
+            }
+        }
+    }
+
+    /// How much of `prism`'s outline has been seen (0 to 1), and from where: the share of points
+    /// every grid cell along its footprint's edges whose cell a cell and a half outwards was seen
+    /// (its floor, or a return there), or lies inside another obstacle (it cannot be seen and does not
+    /// matter); and the places the looks that showed it were taken from.
+    pub fn outline_seen(&self, prism: &Prism) -> (f64, &[Point2<f64>]) {
+        let from = self.seen_from.get(&prism.id).map_or(&[][..], Vec::as_slice);
+        let Some(grid) = &self.grid else {
+            return (0.0, from);
+        };
+        let geometry = grid.geometry();
+        let step = geometry.resolution();
+        let f = &prism.footprint;
+        let (mut seen, mut all) = (0usize, 0usize);
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            let edge = b - a;
+            let len = edge.norm();
+            if len <= 0.0 {
+                continue;
+            }
+            // Counter-clockwise footprint: outwards is the edge turned clockwise.
+            let out = nalgebra::Vector2::new(edge.y, -edge.x) / len;
+            let n = (len / step).ceil() as usize;
+            for j in 0..n {
+                let p = a + edge * ((j as f64 + 0.5) / n as f64) + out * (1.5 * step);
+                all += 1;
+                let inside_other = self
+                    .prisms
+                    .iter()
+                    .any(|q| q.id != prism.id && q.contains_xy(&p));
+                let observed = geometry
+                    .cell_of(p)
+                    .and_then(|c| geometry.index(c))
+                    .is_some_and(|i| self.memory.seen(grid, i));
+                seen += usize::from(inside_other || observed);
+            }
+        }
+        let share = if all == 0 {
+            0.0
+        } else {
+            seen as f64 / all as f64
+        };
+        (share, from)
     }
 
     /// Whether the grid holds an obstacle class (Stationary, Movable, Moving) in a cell `prism`'s
@@ -424,6 +483,14 @@ impl WorldModel {
             }
             self.prisms[i] = merged;
             self.pushed.remove(&b.id);
+            // The merged obstacle was seen from wherever either piece was.
+            let places = self.seen_from.remove(&b.id).unwrap_or_default();
+            let from = self.seen_from.entry(id).or_default();
+            for p in places {
+                if !from.iter().any(|q| (q - p).norm() < SAME_PLACE) {
+                    from.push(p);
+                }
+            }
         }
     }
 
@@ -570,6 +637,9 @@ fn extent(prism: &Prism) -> f64 {
         .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
         .fold(0.0, f64::max)
 }
+
+/// Looks taken this close together (m) were taken from one place.
+const SAME_PLACE: f64 = 0.05;
 
 /// Gap (m) within which two pieces may be one thing when there is no grid to say its cell size.
 const MERGE_GAP_FALLBACK: f64 = 0.05;
@@ -938,5 +1008,50 @@ pub(super) mod tests {
         one.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
         assert_eq!(one.prisms.len(), 1);
         assert_eq!(one.prisms[0].id, ObjectId(4));
+    }
+
+    #[test]
+    fn an_obstacle_seen_from_one_side_has_a_quarter_of_its_outline_seen() {
+        // Invariant: the outline seen is the share of a footprint's edges whose floor just outside was seen, or that lie against another obstacle; a box whose west side alone was seen has a quarter of it, with a neighbour against its east side a half, with everything round it seen all of it; the places it was seen from are those of the looks that showed it.
+        let config = config_to(Point2::new(5.0, 1.0));
+        let geometry =
+            nudge_perception::grid::GridGeometry::new(Point2::origin(), [4.0, 2.0], 0.05)
+                .expect("a grid");
+        let grid = ObstacleGrid::new(geometry, config.grid.rules);
+        let mut world = WorldModel {
+            memory: SeenMemory::new(geometry.len()),
+            grid: Some(grid),
+            ..WorldModel::default()
+        };
+        let object = prism(1, 2.0, 0.5, 2.5, 1.0);
+        let west = floor(1.5, 0.3, 1.95, 1.2);
+        world.memory.saw(&geometry, &west);
+        world.prisms = vec![object.clone()];
+        let (share, from) = world.outline_seen(&object);
+        assert!((share - 0.25).abs() < 0.05, "{share}");
+        assert!(from.is_empty());
+        world.prisms.push(prism(2, 2.55, 0.3, 3.0, 1.2));
+        let (share, _) = world.outline_seen(&object);
+        assert!((share - 0.5).abs() < 0.05, "{share}");
+        world.memory.saw(&geometry, &floor(1.5, 0.0, 3.5, 1.9));
+        let (share, _) = world.outline_seen(&object);
+        assert!((share - 1.0).abs() < 1e-9, "{share}");
+        let mut looked = WorldModel::default();
+        looked.remember(
+            vec![object.clone()],
+            &floor(0.1, 0.1, 0.2, 0.2),
+            &Point2::new(0.6, 0.75),
+            &config,
+        );
+        looked.remember(
+            vec![object.clone()],
+            &floor(0.1, 0.1, 0.2, 0.2),
+            &Point2::new(1.2, 1.6),
+            &config,
+        );
+        assert_eq!(
+            looked.outline_seen(&looked.prisms[0]).1,
+            &[Point2::new(0.6, 0.75), Point2::new(1.2, 1.6)]
+        );
     }
 }
