@@ -36,7 +36,8 @@ pub struct ExecutiveConfig {
     pub max_replans: u32,
     /// Robot time allowed for the run (s).
     pub max_robot_time: f64,
-    /// Jams while clearing after which an object is no longer tried.
+    /// Jams while clearing, or blocked walks to its stand pose, after which an object is no longer
+    /// tried.
     pub max_jams: u32,
     /// Clearing pushes of one object after which it is no longer tried.
     pub max_clears_per_object: u32,

@@ -36,6 +36,10 @@ pub struct Knowledge {
     /// Objects whose push may stand on or sweep over floor nobody has seen: no viewpoint could show
     /// it, and the guarded stroke still stops at whatever is there.
     pub unseen_ok: BTreeSet<ObjectId>,
+    /// Walks to a stand pose that were blocked, per object: after `max_jams` of them the object is
+    /// settled, as one that jammed is, so a walk blocked again and again does not loop until the
+    /// replan limit.
+    pub approach_blocks: BTreeMap<ObjectId, u32>,
 }
 
 /// Every edge of the machine, for timelines and coverage.
@@ -390,17 +394,21 @@ pub fn transition(
         },
         (
             State::ApproachPushPose {
+                target,
                 phase: Approach::Walking(_),
                 ..
             },
             Event::WalkBlocked,
-        ) => replan(
-            k,
-            config,
-            State::LookAround,
-            vec![Command::LookAround],
-            Edge::ApproachBlocked,
-        ),
+        ) => {
+            *k.approach_blocks.entry(*target).or_default() += 1;
+            replan(
+                k,
+                config,
+                State::LookAround,
+                vec![Command::LookAround],
+                Edge::ApproachBlocked,
+            )
+        }
         (
             State::PushTest {
                 target,
@@ -476,7 +484,8 @@ fn replan(
     step(next, k, commands, edge)
 }
 
-/// Objects that need no further push: decided static, impossible to push, jammed or cleared too often.
+/// Objects that need no further push: decided static, impossible to push, jammed, cleared or their
+/// approach blocked too often.
 fn settled(k: &Knowledge, config: &ExecutiveConfig) -> Vec<ObjectId> {
     let e = &k.explanation;
     let mut out: Vec<ObjectId> = e.static_objects();
@@ -491,6 +500,12 @@ fn settled(k: &Knowledge, config: &ExecutiveConfig) -> Vec<ObjectId> {
         k.clears
             .iter()
             .filter(|(_, n)| **n >= config.max_clears_per_object)
+            .map(|(id, _)| *id),
+    );
+    out.extend(
+        k.approach_blocks
+            .iter()
+            .filter(|(_, n)| **n >= config.max_jams)
             .map(|(id, _)| *id),
     );
     out.sort();

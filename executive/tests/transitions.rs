@@ -387,9 +387,15 @@ cases! {
         s.edge
     }
     a_blocked_approach_looks_again => {
-        // Invariant: an approach walk reported blocked re-perceives and counts a replan.
+        // Invariant: an approach walk reported blocked re-perceives, counts a replan and a blocked approach to the object; blocked max_jams times, the object is no longer a candidate.
         let s = run(approach(TABLE, Purpose::Test, Approach::Walking(intent(TABLE))), &Knowledge::default(), Event::WalkBlocked);
-        assert_eq!((s.state, s.knowledge.replans), (State::LookAround, 1));
+        assert_eq!((s.state.clone(), s.knowledge.replans), (State::LookAround, 1));
+        assert_eq!(s.knowledge.approach_blocks.get(&TABLE), Some(&1));
+        // Blocked max_jams times, the object is settled: ranking leaves it out.
+        let mut k = Knowledge::default();
+        k.approach_blocks.insert(TABLE, config().max_jams);
+        let next = run(State::PlanPath, &k, Event::NoPath { reason: "gap".into() });
+        assert_eq!(next.commands, vec![Command::RankCandidates { policy: CandidatePolicy::Nearest, exclude: vec![TABLE] }]);
         s.edge
     }
     limit_without_motion_is_static_and_marked => {

@@ -551,7 +551,11 @@ fn push_of(
     });
     let walls = validity.walls();
     let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
-    let end = stance.stand + offset;
+    // The arm pushes as far as it reaches before the body has to walk after the object: the body
+    // follows only the rest (the clearing push walks after it no further than that).
+    let d = stance.direction.into_inner();
+    let arm = config.reach_x.1 - (stance.contact - stance.stand).dot(&d);
+    let end = stance.stand + d * (distance - arm).max(0.0);
     if into_other || through_wall || !without.motion_free(&stance.stand, &end) {
         return Ok(Err(Miss::Blocked));
     }

@@ -430,6 +430,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(i) => return i.into(),
         };
         let stand = Point2::from(intent.stand.translation.vector);
+        // Already there, within the walk's own error (a push planned from where the last one left
+        // the robot): turn, do not step away and back.
+        if (stand - here).norm() <= ARRIVAL_SLACK {
+            return match self.turn_to(intent.direction.y.atan2(intent.direction.x)) {
+                Ok(WalkOutcome::Arrived) => Event::Arrived,
+                Ok(_) => Event::WalkBlocked,
+                Err(i) => i.into(),
+            };
+        }
         let stuck = self
             .world
             .stuck_at

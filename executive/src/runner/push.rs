@@ -17,6 +17,8 @@ use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
 const STROKE_STANDOFF: f64 = 0.12;
 /// Approach gap before a face whose position the hand measured (m): it is known within a centimetre.
 const MEASURED_GAP: f64 = 0.03;
+/// Shortest clearing stroke worth making (m): the hand's approach gap over again, so it presses.
+const MIN_STROKE: f64 = 0.05;
 
 /// What one guarded stroke measured.
 struct Stroke {
@@ -242,20 +244,31 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 break;
             }
             let mut base = self.robot.base_pose()?.value;
-            let ahead = base.inverse_transform_point(&face_map).x - stroke_start;
-            if ahead > 0.02 {
-                // Walk after the object so the next stroke is a long one.
-                self.step_forward(direction, ahead)?;
-                base = self.robot.base_pose()?.value;
-            }
-            let face = base.inverse_transform_point(&face_map);
+            // Walk after the object so the next stroke is a long one, but no further than the rest
+            // of the push needs beyond the arm's reach (push planning checked only that much).
+            let face_x = base.inverse_transform_point(&face_map).x;
             let gap = if measured {
                 MEASURED_GAP
             } else {
                 motion.approach_gap
             };
+            // At least far enough that a stroke from before the face fits in the arm's reach.
+            let at_least = face_x - gap + MIN_STROKE - motion.reach;
+            let ahead = (face_x + remaining - motion.reach)
+                .max(at_least)
+                .min(face_x - stroke_start);
+            if ahead > 0.02 {
+                self.step_forward(direction, ahead)?;
+                base = self.robot.base_pose()?.value;
+            }
+            let face = base.inverse_transform_point(&face_map);
             let from_x = (face.x - gap).max(motion.near);
             let to_x = (face.x + remaining).min(motion.reach);
+            if to_x - from_x < MIN_STROKE {
+                // The object is beyond the arm's reach and the body could not walk after it (the
+                // walk stopped against something): this push ends here; a look shows where it is.
+                break;
+            }
             let limit = self.config.executive.clear_force_limit;
             let stroke = self.stroke(from_x, to_x, face.y, intent.hand_height, limit)?;
             peak = peak.max(stroke.peak_force);
