@@ -6,9 +6,11 @@
 //! request and the robot-time budget while anything runs. Nothing here reads the wall clock.
 
 mod config;
+mod fragments;
 mod grid;
 mod look;
 mod navigate;
+mod outline;
 mod push;
 mod rank;
 mod report;

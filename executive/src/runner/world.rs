@@ -280,220 +280,6 @@ impl WorldModel {
         }
     }
 
-    /// How much of `prism`'s outline has been seen (0 to 1), and from where: the share of points
-    /// every grid cell along its footprint's edges whose cell a cell and a half outwards was seen
-    /// (its floor, or a return there), or lies inside another obstacle (it cannot be seen and does not
-    /// matter); and the places the looks that showed it were taken from.
-    pub fn outline_seen(&self, prism: &Prism) -> (f64, &[Point2<f64>]) {
-        let from = self.seen_from.get(&prism.id).map_or(&[][..], Vec::as_slice);
-        let Some(grid) = &self.grid else {
-            return (0.0, from);
-        };
-        let geometry = grid.geometry();
-        let step = geometry.resolution();
-        let f = &prism.footprint;
-        let (mut seen, mut all) = (0usize, 0usize);
-        for k in 0..f.len() {
-            let (a, b) = (f[k], f[(k + 1) % f.len()]);
-            let edge = b - a;
-            let len = edge.norm();
-            if len <= 0.0 {
-                continue;
-            }
-            // Counter-clockwise footprint: outwards is the edge turned clockwise.
-            let out = nalgebra::Vector2::new(edge.y, -edge.x) / len;
-            let n = (len / step).ceil() as usize;
-            for j in 0..n {
-                let p = a + edge * ((j as f64 + 0.5) / n as f64) + out * (1.5 * step);
-                all += 1;
-                let inside_other = self
-                    .prisms
-                    .iter()
-                    .any(|q| q.id != prism.id && q.contains_xy(&p));
-                let observed = geometry
-                    .cell_of(p)
-                    .and_then(|c| geometry.index(c))
-                    .is_some_and(|i| self.memory.seen(grid, i));
-                seen += usize::from(inside_other || observed);
-            }
-        }
-        let share = if all == 0 {
-            0.0
-        } else {
-            seen as f64 / all as f64
-        };
-        (share, from)
-    }
-
-    /// Whether the grid holds an obstacle class (Stationary, Movable, Moving) in a cell `prism`'s
-    /// footprint overlaps, away from every cell `moved` marks (near motion ever seen): something
-    /// that does not move by itself still returns there.
-    fn grid_holds_returns(&self, prism: &Prism, moved: Option<&[bool]>) -> bool {
-        self.cells_under(prism).iter().any(|(i, class)| {
-            class.is_some_and(nudge_perception::grid::CellClass::is_obstacle)
-                && !moved.is_some_and(|m| m.get(*i).copied().unwrap_or(false))
-        })
-    }
-
-    /// The indices and classes of the grid cells `prism`'s footprint overlaps (empty without a grid).
-    fn cells_under(
-        &self,
-        prism: &Prism,
-    ) -> Vec<(usize, Option<nudge_perception::grid::CellClass>)> {
-        let Some(grid) = &self.grid else {
-            return Vec::new();
-        };
-        let geometry = grid.geometry();
-        let half = geometry.resolution() / 2.0;
-        let (lo, hi) = footprint_box(prism);
-        let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
-            return Vec::new();
-        };
-        let mut out = Vec::new();
-        for y in a.y..=b.y {
-            for x in a.x..=b.x {
-                let cell = nudge_perception::grid::CellIndex { x, y };
-                if super::grid::overlaps_cell(prism, geometry.centre(cell), half)
-                    && let Some(i) = geometry.index(cell)
-                {
-                    out.push((i, grid.class(cell)));
-                }
-            }
-        }
-        out
-    }
-
-    /// Whether the grid holds every cell `prism`'s footprint overlaps Free: it saw floor all over
-    /// where the obstacle was (a sliver left where an object stood before a push, too small to hold
-    /// the look's floor points that forget larger ones).
-    fn grid_sees_free(&self, prism: &Prism) -> bool {
-        let classes = self.cells_under(prism);
-        !classes.is_empty()
-            && classes
-                .iter()
-                .all(|(_, c)| *c == Some(nudge_perception::grid::CellClass::Free))
-    }
-
-    /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
-    /// corner, seen from inside it; two chairs side by side): they are two things, and their hull would
-    /// be a phantom over free floor.
-    fn floor_between(
-        &self,
-        a: &Prism,
-        b: &Prism,
-        floor_points: &ColourCloud,
-        config: &RunConfig,
-    ) -> bool {
-        let hull = a.merged_with(b);
-        let outside_both = |q: &Point2<f64>| !a.contains_xy(q) && !b.contains_xy(q);
-        let (lo, hi) = footprint_box(&hull);
-        let in_gap = |q: &Point2<f64>| {
-            q.x >= lo.x
-                && q.y >= lo.y
-                && q.x <= hi.x
-                && q.y <= hi.y
-                && hull.contains_xy(q)
-                && outside_both(q)
-        };
-        let n = config.forget_after_floor_points;
-        floor_points
-            .iter_valid()
-            .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
-            .filter(|q| in_gap(q))
-            .take(n)
-            .count()
-            >= n
-            || self
-                .grid
-                .as_ref()
-                .is_some_and(|g| free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA)
-    }
-
-    /// Merges obstacles that are pieces of one thing: footprints within two grid cells of each other,
-    /// height ranges that meet, and no floor seen between them (see [`Self::floor_between`]). A
-    /// surface seen obliquely or from far (a wall, a table's top at 4 m) comes out of perception in
-    /// pieces whose gaps are where its points thinned out; planning around the pieces is the same as
-    /// around the whole, but a push of one piece "runs into" the next. Two obstacles that both carry a
-    /// push test's verdict stay apart; a merge keeps the id of the one that has a verdict (else the
-    /// older id).
-    fn merge_fragments(&mut self, floor_points: &ColourCloud, config: &RunConfig) {
-        // Two cells: a hull's edge runs a cell off the face it was made from, on either side.
-        let gap = 2.0
-            * self
-                .grid
-                .as_ref()
-                .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
-        let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
-        loop {
-            let outlines: Vec<Option<nudge_motion::Obstacle>> = self
-                .prisms
-                .iter()
-                .map(|p| nudge_motion::Obstacle::from_prism(p).ok())
-                .collect();
-            let mut pair = None;
-            'search: for i in 0..self.prisms.len() {
-                for j in i + 1..self.prisms.len() {
-                    let (a, b) = (&self.prisms[i], &self.prisms[j]);
-                    let (Some(oa), Some(ob)) = (&outlines[i], &outlines[j]) else {
-                        continue;
-                    };
-                    if (judged(a) && judged(b))
-                        || !oa.heights_overlap(ob)
-                        || !oa.aabb().inflated(SURFACE_GAP).overlaps(ob.aabb())
-                    {
-                        continue;
-                    }
-                    let apart = oa.distance_to_obstacle(ob);
-                    let hull = a.merged_with(b);
-                    // Their hull adds no more than a strip of the surface gap along it: pieces of one
-                    // run, not two walls meeting at a corner (whose hull is a triangle of floor).
-                    let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint);
-                    if added > SURFACE_GAP * extent(&hull) / 2.0 {
-                        continue;
-                    }
-                    // Pieces of one object's surfaces (a table's edge seen from 4 m, floor showing
-                    // under its top): points within the sensor's spacing, and together no larger
-                    // than an object to push (a chair beside a wall stays a chair).
-                    let one_surface = apart <= SURFACE_GAP
-                        && extent(&hull) <= config.max_candidate_extent
-                        && points_within(a, b, SURFACE_GAP);
-                    let touching =
-                        || apart <= gap && !self.floor_between(a, b, floor_points, config);
-                    if !one_surface && !touching() {
-                        continue;
-                    }
-                    pair = Some((i, j));
-                    break 'search;
-                }
-            }
-            let Some((i, j)) = pair else {
-                return;
-            };
-            let b = self.prisms.remove(j);
-            let a = &self.prisms[i];
-            let id = match (judged(a), judged(&b)) {
-                (true, _) => a.id,
-                (false, true) => b.id,
-                _ => a.id.min(b.id),
-            };
-            let mut merged = a.merged_with(&b);
-            merged.id = id;
-            for (_, p, c) in b.points.iter_valid() {
-                merged.points.push(p, c);
-            }
-            self.prisms[i] = merged;
-            self.pushed.remove(&b.id);
-            // The merged obstacle was seen from wherever either piece was.
-            let places = self.seen_from.remove(&b.id).unwrap_or_default();
-            let from = self.seen_from.entry(id).or_default();
-            for p in places {
-                if !from.iter().any(|q| (q - p).norm() < SAME_PLACE) {
-                    from.push(p);
-                }
-            }
-        }
-    }
-
     /// Moves `id`'s obstacle by a measured planar displacement (a confirmed push): its old footprint is
     /// free now even where no background shows behind it.
     pub fn displace(&mut self, id: nudge_perception::ObjectId, offset: nalgebra::Vector2<f64>) {
@@ -541,112 +327,8 @@ impl WorldModel {
     }
 }
 
-/// Area of grid cells seen free (m²) whose centres lie in the box `(lo, hi)` and satisfy `keep`.
-fn free_area_where(
-    grid: &ObstacleGrid,
-    (lo, hi): (Point2<f64>, Point2<f64>),
-    keep: impl Fn(&Point2<f64>) -> bool,
-) -> f64 {
-    let geometry = grid.geometry();
-    let res = geometry.resolution();
-    let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
-        return 0.0;
-    };
-    let mut free = 0usize;
-    for y in a.y..=b.y {
-        for x in a.x..=b.x {
-            let cell = nudge_perception::grid::CellIndex { x, y };
-            if grid.class(cell) == Some(nudge_perception::grid::CellClass::Free)
-                && keep(&geometry.centre(cell))
-            {
-                free += 1;
-            }
-        }
-    }
-    free as f64 * res * res
-}
-
-/// Points of one surface seen by the range camera lie at most this far apart (m): adjacent pixels
-/// 0.25° apart (43.6° over 176 columns) at the camera's 5 m range, on a surface seen at perception's
-/// 80° incidence limit, are 5 m × 0.25° / cos 80° ≈ 12.5 cm apart.
-const SURFACE_GAP: f64 = 0.125;
-
-/// Whether a point of `a` lies within `within` (3D, m) of a point of `b`: `b`'s points binned in
-/// cubes of that side, each of `a`'s checked against the 27 cubes around its own.
-fn points_within(a: &Prism, b: &Prism, within: f64) -> bool {
-    // Only points near the other's footprint can be near its points.
-    let near = |p: &Prism, of: &Prism| -> Vec<[f32; 3]> {
-        let (lo, hi) = footprint_box(of);
-        p.points
-            .iter_valid()
-            .filter(|(_, q, _)| {
-                let (x, y) = (f64::from(q.x), f64::from(q.y));
-                x >= lo.x - within && y >= lo.y - within && x <= hi.x + within && y <= hi.y + within
-            })
-            .map(|(_, q, _)| [q.x, q.y, q.z])
-            .collect()
-    };
-    let key = |q: &[f32; 3]| {
-        let k = |v: f32| (f64::from(v) / within).floor() as i64;
-        (k(q[0]), k(q[1]), k(q[2]))
-    };
-    let (from_a, from_b) = (near(a, b), near(b, a));
-    if from_a.is_empty() || from_b.is_empty() {
-        return false;
-    }
-    let mut bins: std::collections::BTreeMap<(i64, i64, i64), Vec<[f32; 3]>> =
-        std::collections::BTreeMap::new();
-    for q in from_b {
-        bins.entry(key(&q)).or_default().push(q);
-    }
-    let w2 = (within * within) as f32;
-    from_a.iter().any(|p| {
-        let (i, j, k) = key(p);
-        (-1..=1).any(|di| {
-            (-1..=1).any(|dj| {
-                (-1..=1).any(|dk| {
-                    bins.get(&(i + di, j + dj, k + dk)).is_some_and(|pts| {
-                        pts.iter().any(|q| {
-                            let (dx, dy, dz) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
-                            dx * dx + dy * dy + dz * dz <= w2
-                        })
-                    })
-                })
-            })
-        })
-    })
-}
-
-/// Area of the polygon `f` (m², shoelace; either winding).
-fn area(f: &[Point2<f64>]) -> f64 {
-    let n = f.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (f[i], f[(i + 1) % n]);
-            a.x * b.y - b.x * a.y
-        })
-        .sum::<f64>()
-        .abs()
-        / 2.0
-}
-
-/// Largest distance between two footprint vertices (m).
-fn extent(prism: &Prism) -> f64 {
-    let f = &prism.footprint;
-    f.iter()
-        .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
-        .fold(0.0, f64::max)
-}
-
 /// Looks taken this close together (m) were taken from one place.
-const SAME_PLACE: f64 = 0.05;
-
-/// Gap (m) within which two pieces may be one thing when there is no grid to say its cell size.
-const MERGE_GAP_FALLBACK: f64 = 0.05;
-
-/// Free floor (m²) the grid saw between two obstacles that keeps them from merging: a few cells, more
-/// than the slivers a hull adds along two overlapping views of one straight face.
-const MERGE_BLOCKING_FREE_AREA: f64 = 0.02;
+pub(super) const SAME_PLACE: f64 = 0.05;
 
 /// Whether the robot's disc at `centre` overlaps `prism`'s footprint by more than a few centimetres.
 fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
@@ -655,7 +337,7 @@ fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
 }
 
 /// Corners of the box around `prism`'s footprint.
-fn footprint_box(prism: &Prism) -> (Point2<f64>, Point2<f64>) {
+pub(super) fn footprint_box(prism: &Prism) -> (Point2<f64>, Point2<f64>) {
     let first = prism
         .footprint
         .first()
@@ -673,7 +355,7 @@ pub(super) mod tests {
     use nudge_perception::CloudFrame;
 
     /// An axis-aligned box prism `[x0, x1] × [y0, y1]`, 0.72 m high.
-    fn prism(id: u32, x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
+    pub(in crate::runner) fn prism(id: u32, x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
         box_prism(id, (x0, y0, x1, y1), 0.72)
     }
 
@@ -698,7 +380,7 @@ pub(super) mod tests {
     }
 
     /// The run's configuration for the paper's robot and a goal at `goal` (0.2 m tolerance).
-    fn config_to(goal: Point2<f64>) -> RunConfig {
+    pub(in crate::runner) fn config_to(goal: Point2<f64>) -> RunConfig {
         let robot_shape = nudge_motion::RobotCylinder {
             radius: 0.35,
             height: 1.54,
@@ -707,7 +389,7 @@ pub(super) mod tests {
     }
 
     /// Floor points on a 2 cm grid over `[x0, x1] × [y0, y1]`.
-    fn floor(x0: f64, y0: f64, x1: f64, y1: f64) -> ColourCloud {
+    pub(in crate::runner) fn floor(x0: f64, y0: f64, x1: f64, y1: f64) -> ColourCloud {
         let mut cloud = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
         let steps = |a: f64, b: f64| {
             (0..)
@@ -922,136 +604,5 @@ pub(super) mod tests {
         world.remember(vec![part], &no_floor, &robot, &config);
         assert_eq!(world.prisms.len(), 1);
         assert!(world.prisms[0].contains_xy(&Point2::new(3.0, 1.1)));
-    }
-
-    /// A prism `[x0, x1] × [y0, y1]` up to `z` whose points cover its top at 2 cm spacing.
-    fn solid(id: u32, (x0, y0, x1, y1): (f64, f64, f64, f64), z: f64) -> Prism {
-        let mut p = box_prism(id, (x0, y0, x1, y1), z);
-        let steps = |a: f64, b: f64| {
-            (0..)
-                .map(move |k| a + 0.02 * f64::from(k))
-                .take_while(move |v| *v <= b + 1e-9)
-        };
-        for x in steps(x0, x1) {
-            for y in steps(y0, y1) {
-                p.points.push(
-                    nalgebra::Point3::new(x as f32, y as f32, z as f32),
-                    [90, 60, 30],
-                );
-            }
-        }
-        p
-    }
-
-    #[test]
-    fn pieces_of_one_object_merge_and_two_objects_side_by_side_do_not() {
-        // Invariant: two pieces of one table's edge seen from far (points 8 cm apart, floor seen under the table beside them) become one obstacle with both pieces' points; a chair 18 cm from the table stays apart; two wall runs meeting at a corner stay two (their hull would be a triangle of floor).
-        let config = config_to(Point2::new(13.3, 1.8));
-        let robot = Point2::new(3.6, 1.8);
-        let left = solid(7, (8.1, 1.2, 8.2, 1.75), 0.72);
-        let right = solid(8, (8.1, 1.83, 8.2, 2.4), 0.72);
-        let chair = solid(12, (9.05, 0.6, 9.55, 1.1), 0.85);
-        let table_back = solid(9, (8.38, 1.2, 8.9, 2.4), 0.72);
-        let under = floor(8.25, 1.3, 8.33, 2.3);
-        let mut world = WorldModel::default();
-        world.remember(
-            vec![left.clone(), right.clone(), chair.clone(), table_back],
-            &under,
-            &robot,
-            &config,
-        );
-        let edge = world
-            .prisms
-            .iter()
-            .find(|p| p.contains_xy(&Point2::new(8.15, 1.5)))
-            .expect("the table's edge");
-        assert!(
-            edge.contains_xy(&Point2::new(8.15, 2.2)),
-            "{:?}",
-            world.prisms
-        );
-        assert_eq!(edge.id, ObjectId(7));
-        assert_eq!(edge.points.len(), left.points.len() + right.points.len());
-        assert!(world.prisms.iter().any(|p| p.id == ObjectId(12)));
-        // Two wall runs meeting at a corner, touching, no floor seen between them.
-        let mut corner = WorldModel::default();
-        let south = solid(20, (4.1, 3.95, 7.4, 4.05), 2.0);
-        let east = solid(21, (7.35, 4.05, 7.45, 5.5), 2.0);
-        corner.remember(
-            vec![south, east],
-            &floor(1.0, 1.0, 1.1, 1.1),
-            &Point2::new(5.0, 6.0),
-            &config,
-        );
-        assert_eq!(corner.prisms.len(), 2, "{:?}", corner.prisms);
-    }
-
-    #[test]
-    fn objects_that_both_carry_a_verdict_never_merge() {
-        // Invariant: two touching obstacles that both have a push test's verdict stay two; a piece touching one with a verdict joins it under that id.
-        let config = config_to(Point2::new(6.2, 1.8));
-        let a = solid(3, (2.0, 1.0, 2.5, 1.5), 0.8);
-        let b = solid(4, (2.52, 1.0, 3.0, 1.5), 0.8);
-        let mut world = WorldModel {
-            prisms: vec![a.clone(), b.clone()],
-            ..WorldModel::default()
-        };
-        world.settled.insert(ObjectId(3));
-        world.movable.insert(ObjectId(4));
-        world.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
-        assert_eq!(world.prisms.len(), 2);
-        let mut one = WorldModel {
-            prisms: vec![solid(2, (2.0, 1.0, 2.5, 1.5), 0.8), b],
-            ..WorldModel::default()
-        };
-        one.movable.insert(ObjectId(4));
-        one.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
-        assert_eq!(one.prisms.len(), 1);
-        assert_eq!(one.prisms[0].id, ObjectId(4));
-    }
-
-    #[test]
-    fn an_obstacle_seen_from_one_side_has_a_quarter_of_its_outline_seen() {
-        // Invariant: the outline seen is the share of a footprint's edges whose floor just outside was seen, or that lie against another obstacle; a box whose west side alone was seen has a quarter of it, with a neighbour against its east side a half, with everything round it seen all of it; the places it was seen from are those of the looks that showed it.
-        let config = config_to(Point2::new(5.0, 1.0));
-        let geometry =
-            nudge_perception::grid::GridGeometry::new(Point2::origin(), [4.0, 2.0], 0.05)
-                .expect("a grid");
-        let grid = ObstacleGrid::new(geometry, config.grid.rules);
-        let mut world = WorldModel {
-            memory: SeenMemory::new(geometry.len()),
-            grid: Some(grid),
-            ..WorldModel::default()
-        };
-        let object = prism(1, 2.0, 0.5, 2.5, 1.0);
-        let west = floor(1.5, 0.3, 1.95, 1.2);
-        world.memory.saw(&geometry, &west);
-        world.prisms = vec![object.clone()];
-        let (share, from) = world.outline_seen(&object);
-        assert!((share - 0.25).abs() < 0.05, "{share}");
-        assert!(from.is_empty());
-        world.prisms.push(prism(2, 2.55, 0.3, 3.0, 1.2));
-        let (share, _) = world.outline_seen(&object);
-        assert!((share - 0.5).abs() < 0.05, "{share}");
-        world.memory.saw(&geometry, &floor(1.5, 0.0, 3.5, 1.9));
-        let (share, _) = world.outline_seen(&object);
-        assert!((share - 1.0).abs() < 1e-9, "{share}");
-        let mut looked = WorldModel::default();
-        looked.remember(
-            vec![object.clone()],
-            &floor(0.1, 0.1, 0.2, 0.2),
-            &Point2::new(0.6, 0.75),
-            &config,
-        );
-        looked.remember(
-            vec![object.clone()],
-            &floor(0.1, 0.1, 0.2, 0.2),
-            &Point2::new(1.2, 1.6),
-            &config,
-        );
-        assert_eq!(
-            looked.outline_seen(&looked.prisms[0]).1,
-            &[Point2::new(0.6, 0.75), Point2::new(1.2, 1.6)]
-        );
     }
 }

@@ -1,0 +1,328 @@
+//! One object, one obstacle: merging the pieces perception makes of an object seen from one side or
+//! from far, and keeping apart two things that only touch.
+
+use nalgebra::Point2;
+use nudge_perception::grid::ObstacleGrid;
+use nudge_perception::{ColourCloud, Prism};
+
+use super::config::RunConfig;
+use super::world::{SAME_PLACE, WorldModel, footprint_box};
+
+impl WorldModel {
+    /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
+    /// corner, seen from inside it; two chairs side by side): they are two things, and their hull would
+    /// be a phantom over free floor.
+    pub(super) fn floor_between(
+        &self,
+        a: &Prism,
+        b: &Prism,
+        floor_points: &ColourCloud,
+        config: &RunConfig,
+    ) -> bool {
+        let hull = a.merged_with(b);
+        let outside_both = |q: &Point2<f64>| !a.contains_xy(q) && !b.contains_xy(q);
+        let (lo, hi) = footprint_box(&hull);
+        let in_gap = |q: &Point2<f64>| {
+            q.x >= lo.x
+                && q.y >= lo.y
+                && q.x <= hi.x
+                && q.y <= hi.y
+                && hull.contains_xy(q)
+                && outside_both(q)
+        };
+        let n = config.forget_after_floor_points;
+        floor_points
+            .iter_valid()
+            .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
+            .filter(|q| in_gap(q))
+            .take(n)
+            .count()
+            >= n
+            || self
+                .grid
+                .as_ref()
+                .is_some_and(|g| free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA)
+    }
+
+    /// Merges obstacles that are pieces of one thing: footprints within two grid cells of each other,
+    /// height ranges that meet, and no floor seen between them (see [`Self::floor_between`]). A
+    /// surface seen obliquely or from far (a wall, a table's top at 4 m) comes out of perception in
+    /// pieces whose gaps are where its points thinned out; planning around the pieces is the same as
+    /// around the whole, but a push of one piece "runs into" the next. Two obstacles that both carry a
+    /// push test's verdict stay apart; a merge keeps the id of the one that has a verdict (else the
+    /// older id).
+    pub(super) fn merge_fragments(&mut self, floor_points: &ColourCloud, config: &RunConfig) {
+        // Two cells: a hull's edge runs a cell off the face it was made from, on either side.
+        let gap = 2.0
+            * self
+                .grid
+                .as_ref()
+                .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
+        let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
+        loop {
+            let outlines: Vec<Option<nudge_motion::Obstacle>> = self
+                .prisms
+                .iter()
+                .map(|p| nudge_motion::Obstacle::from_prism(p).ok())
+                .collect();
+            let mut pair = None;
+            'search: for i in 0..self.prisms.len() {
+                for j in i + 1..self.prisms.len() {
+                    let (a, b) = (&self.prisms[i], &self.prisms[j]);
+                    let (Some(oa), Some(ob)) = (&outlines[i], &outlines[j]) else {
+                        continue;
+                    };
+                    if (judged(a) && judged(b))
+                        || !oa.heights_overlap(ob)
+                        || !oa.aabb().inflated(SURFACE_GAP).overlaps(ob.aabb())
+                    {
+                        continue;
+                    }
+                    let apart = oa.distance_to_obstacle(ob);
+                    let hull = a.merged_with(b);
+                    // Their hull adds no more than a strip of the surface gap along it: pieces of one
+                    // run, not two walls meeting at a corner (whose hull is a triangle of floor).
+                    let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint);
+                    if added > SURFACE_GAP * extent(&hull) / 2.0 {
+                        continue;
+                    }
+                    // Pieces of one object's surfaces (a table's edge seen from 4 m, floor showing
+                    // under its top): points within the sensor's spacing, and together no larger
+                    // than an object to push (a chair beside a wall stays a chair).
+                    let one_surface = apart <= SURFACE_GAP
+                        && extent(&hull) <= config.max_candidate_extent
+                        && points_within(a, b, SURFACE_GAP);
+                    let touching =
+                        || apart <= gap && !self.floor_between(a, b, floor_points, config);
+                    if !one_surface && !touching() {
+                        continue;
+                    }
+                    pair = Some((i, j));
+                    break 'search;
+                }
+            }
+            let Some((i, j)) = pair else {
+                return;
+            };
+            let b = self.prisms.remove(j);
+            let a = &self.prisms[i];
+            let id = match (judged(a), judged(&b)) {
+                (true, _) => a.id,
+                (false, true) => b.id,
+                _ => a.id.min(b.id),
+            };
+            let mut merged = a.merged_with(&b);
+            merged.id = id;
+            for (_, p, c) in b.points.iter_valid() {
+                merged.points.push(p, c);
+            }
+            self.prisms[i] = merged;
+            self.pushed.remove(&b.id);
+            // The merged obstacle was seen from wherever either piece was.
+            let places = self.seen_from.remove(&b.id).unwrap_or_default();
+            let from = self.seen_from.entry(id).or_default();
+            for p in places {
+                if !from.iter().any(|q| (q - p).norm() < SAME_PLACE) {
+                    from.push(p);
+                }
+            }
+        }
+    }
+}
+
+/// Area of grid cells seen free (m²) whose centres lie in the box `(lo, hi)` and satisfy `keep`.
+fn free_area_where(
+    grid: &ObstacleGrid,
+    (lo, hi): (Point2<f64>, Point2<f64>),
+    keep: impl Fn(&Point2<f64>) -> bool,
+) -> f64 {
+    let geometry = grid.geometry();
+    let res = geometry.resolution();
+    let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+        return 0.0;
+    };
+    let mut free = 0usize;
+    for y in a.y..=b.y {
+        for x in a.x..=b.x {
+            let cell = nudge_perception::grid::CellIndex { x, y };
+            if grid.class(cell) == Some(nudge_perception::grid::CellClass::Free)
+                && keep(&geometry.centre(cell))
+            {
+                free += 1;
+            }
+        }
+    }
+    free as f64 * res * res
+}
+
+/// Points of one surface seen by the range camera lie at most this far apart (m): adjacent pixels
+/// 0.25° apart (43.6° over 176 columns) at the camera's 5 m range, on a surface seen at perception's
+/// 80° incidence limit, are 5 m × 0.25° / cos 80° ≈ 12.5 cm apart.
+const SURFACE_GAP: f64 = 0.125;
+
+/// Whether a point of `a` lies within `within` (3D, m) of a point of `b`: `b`'s points binned in
+/// cubes of that side, each of `a`'s checked against the 27 cubes around its own.
+fn points_within(a: &Prism, b: &Prism, within: f64) -> bool {
+    // Only points near the other's footprint can be near its points.
+    let near = |p: &Prism, of: &Prism| -> Vec<[f32; 3]> {
+        let (lo, hi) = footprint_box(of);
+        p.points
+            .iter_valid()
+            .filter(|(_, q, _)| {
+                let (x, y) = (f64::from(q.x), f64::from(q.y));
+                x >= lo.x - within && y >= lo.y - within && x <= hi.x + within && y <= hi.y + within
+            })
+            .map(|(_, q, _)| [q.x, q.y, q.z])
+            .collect()
+    };
+    let key = |q: &[f32; 3]| {
+        let k = |v: f32| (f64::from(v) / within).floor() as i64;
+        (k(q[0]), k(q[1]), k(q[2]))
+    };
+    let (from_a, from_b) = (near(a, b), near(b, a));
+    if from_a.is_empty() || from_b.is_empty() {
+        return false;
+    }
+    let mut bins: std::collections::BTreeMap<(i64, i64, i64), Vec<[f32; 3]>> =
+        std::collections::BTreeMap::new();
+    for q in from_b {
+        bins.entry(key(&q)).or_default().push(q);
+    }
+    let w2 = (within * within) as f32;
+    from_a.iter().any(|p| {
+        let (i, j, k) = key(p);
+        (-1..=1).any(|di| {
+            (-1..=1).any(|dj| {
+                (-1..=1).any(|dk| {
+                    bins.get(&(i + di, j + dj, k + dk)).is_some_and(|pts| {
+                        pts.iter().any(|q| {
+                            let (dx, dy, dz) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+                            dx * dx + dy * dy + dz * dz <= w2
+                        })
+                    })
+                })
+            })
+        })
+    })
+}
+
+/// Area of the polygon `f` (m², shoelace; either winding).
+fn area(f: &[Point2<f64>]) -> f64 {
+    let n = f.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (f[i], f[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}
+
+/// Largest distance between two footprint vertices (m).
+fn extent(prism: &Prism) -> f64 {
+    let f = &prism.footprint;
+    f.iter()
+        .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
+        .fold(0.0, f64::max)
+}
+
+/// Gap (m) within which two pieces may be one thing when there is no grid to say its cell size.
+const MERGE_GAP_FALLBACK: f64 = 0.05;
+
+/// Free floor (m²) the grid saw between two obstacles that keeps them from merging: a few cells, more
+/// than the slivers a hull adds along two overlapping views of one straight face.
+const MERGE_BLOCKING_FREE_AREA: f64 = 0.02;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::runner::world::tests::{box_prism, config_to, floor};
+    use nudge_perception::ObjectId;
+
+    /// A prism `[x0, x1] × [y0, y1]` up to `z` whose points cover its top at 2 cm spacing.
+    fn solid(id: u32, (x0, y0, x1, y1): (f64, f64, f64, f64), z: f64) -> Prism {
+        let mut p = box_prism(id, (x0, y0, x1, y1), z);
+        let steps = |a: f64, b: f64| {
+            (0..)
+                .map(move |k| a + 0.02 * f64::from(k))
+                .take_while(move |v| *v <= b + 1e-9)
+        };
+        for x in steps(x0, x1) {
+            for y in steps(y0, y1) {
+                p.points.push(
+                    nalgebra::Point3::new(x as f32, y as f32, z as f32),
+                    [90, 60, 30],
+                );
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn pieces_of_one_object_merge_and_two_objects_side_by_side_do_not() {
+        // Invariant: two pieces of one table's edge seen from far (points 8 cm apart, floor seen under the table beside them) become one obstacle with both pieces' points; a chair 18 cm from the table stays apart; two wall runs meeting at a corner stay two (their hull would be a triangle of floor).
+        let config = config_to(Point2::new(13.3, 1.8));
+        let robot = Point2::new(3.6, 1.8);
+        let left = solid(7, (8.1, 1.2, 8.2, 1.75), 0.72);
+        let right = solid(8, (8.1, 1.83, 8.2, 2.4), 0.72);
+        let chair = solid(12, (9.05, 0.6, 9.55, 1.1), 0.85);
+        let table_back = solid(9, (8.38, 1.2, 8.9, 2.4), 0.72);
+        let under = floor(8.25, 1.3, 8.33, 2.3);
+        let mut world = WorldModel::default();
+        world.remember(
+            vec![left.clone(), right.clone(), chair.clone(), table_back],
+            &under,
+            &robot,
+            &config,
+        );
+        let edge = world
+            .prisms
+            .iter()
+            .find(|p| p.contains_xy(&Point2::new(8.15, 1.5)))
+            .expect("the table's edge");
+        assert!(
+            edge.contains_xy(&Point2::new(8.15, 2.2)),
+            "{:?}",
+            world.prisms
+        );
+        assert_eq!(edge.id, ObjectId(7));
+        assert_eq!(edge.points.len(), left.points.len() + right.points.len());
+        assert!(world.prisms.iter().any(|p| p.id == ObjectId(12)));
+        // Two wall runs meeting at a corner, touching, no floor seen between them.
+        let mut corner = WorldModel::default();
+        let south = solid(20, (4.1, 3.95, 7.4, 4.05), 2.0);
+        let east = solid(21, (7.35, 4.05, 7.45, 5.5), 2.0);
+        corner.remember(
+            vec![south, east],
+            &floor(1.0, 1.0, 1.1, 1.1),
+            &Point2::new(5.0, 6.0),
+            &config,
+        );
+        assert_eq!(corner.prisms.len(), 2, "{:?}", corner.prisms);
+    }
+
+    #[test]
+    fn objects_that_both_carry_a_verdict_never_merge() {
+        // Invariant: two touching obstacles that both have a push test's verdict stay two; a piece touching one with a verdict joins it under that id.
+        let config = config_to(Point2::new(6.2, 1.8));
+        let a = solid(3, (2.0, 1.0, 2.5, 1.5), 0.8);
+        let b = solid(4, (2.52, 1.0, 3.0, 1.5), 0.8);
+        let mut world = WorldModel {
+            prisms: vec![a.clone(), b.clone()],
+            ..WorldModel::default()
+        };
+        world.settled.insert(ObjectId(3));
+        world.movable.insert(ObjectId(4));
+        world.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
+        assert_eq!(world.prisms.len(), 2);
+        let mut one = WorldModel {
+            prisms: vec![solid(2, (2.0, 1.0, 2.5, 1.5), 0.8), b],
+            ..WorldModel::default()
+        };
+        one.movable.insert(ObjectId(4));
+        one.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
+        assert_eq!(one.prisms.len(), 1);
+        assert_eq!(one.prisms[0].id, ObjectId(4));
+    }
+}

@@ -1,0 +1,156 @@
+//! What the run has seen of each obstacle: how much of its outline and from where, and whether the
+//! grid still holds it (returns there) or has seen all of its floor free.
+
+use nalgebra::Point2;
+use nudge_perception::Prism;
+
+use super::world::{WorldModel, footprint_box};
+
+impl WorldModel {
+    /// How much of `prism`'s outline has been seen (0 to 1), and from where: the share of points
+    /// every grid cell along its footprint's edges whose cell a cell and a half outwards was seen
+    /// (its floor, or a return there), or lies inside another obstacle (it cannot be seen and does not
+    /// matter); and the places the looks that showed it were taken from.
+    pub fn outline_seen(&self, prism: &Prism) -> (f64, &[Point2<f64>]) {
+        let from = self.seen_from.get(&prism.id).map_or(&[][..], Vec::as_slice);
+        let Some(grid) = &self.grid else {
+            return (0.0, from);
+        };
+        let geometry = grid.geometry();
+        let step = geometry.resolution();
+        let f = &prism.footprint;
+        let (mut seen, mut all) = (0usize, 0usize);
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            let edge = b - a;
+            let len = edge.norm();
+            if len <= 0.0 {
+                continue;
+            }
+            // Counter-clockwise footprint: outwards is the edge turned clockwise.
+            let out = nalgebra::Vector2::new(edge.y, -edge.x) / len;
+            let n = (len / step).ceil() as usize;
+            for j in 0..n {
+                let p = a + edge * ((j as f64 + 0.5) / n as f64) + out * (1.5 * step);
+                all += 1;
+                let inside_other = self
+                    .prisms
+                    .iter()
+                    .any(|q| q.id != prism.id && q.contains_xy(&p));
+                let observed = geometry
+                    .cell_of(p)
+                    .and_then(|c| geometry.index(c))
+                    .is_some_and(|i| self.memory.seen(grid, i));
+                seen += usize::from(inside_other || observed);
+            }
+        }
+        let share = if all == 0 {
+            0.0
+        } else {
+            seen as f64 / all as f64
+        };
+        (share, from)
+    }
+
+    /// Whether the grid holds an obstacle class (Stationary, Movable, Moving) in a cell `prism`'s
+    /// footprint overlaps, away from every cell `moved` marks (near motion ever seen): something
+    /// that does not move by itself still returns there.
+    pub(super) fn grid_holds_returns(&self, prism: &Prism, moved: Option<&[bool]>) -> bool {
+        self.cells_under(prism).iter().any(|(i, class)| {
+            class.is_some_and(nudge_perception::grid::CellClass::is_obstacle)
+                && !moved.is_some_and(|m| m.get(*i).copied().unwrap_or(false))
+        })
+    }
+
+    /// The indices and classes of the grid cells `prism`'s footprint overlaps (empty without a grid).
+    fn cells_under(
+        &self,
+        prism: &Prism,
+    ) -> Vec<(usize, Option<nudge_perception::grid::CellClass>)> {
+        let Some(grid) = &self.grid else {
+            return Vec::new();
+        };
+        let geometry = grid.geometry();
+        let half = geometry.resolution() / 2.0;
+        let (lo, hi) = footprint_box(prism);
+        let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for y in a.y..=b.y {
+            for x in a.x..=b.x {
+                let cell = nudge_perception::grid::CellIndex { x, y };
+                if super::grid::overlaps_cell(prism, geometry.centre(cell), half)
+                    && let Some(i) = geometry.index(cell)
+                {
+                    out.push((i, grid.class(cell)));
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether the grid holds every cell `prism`'s footprint overlaps Free: it saw floor all over
+    /// where the obstacle was (a sliver left where an object stood before a push, too small to hold
+    /// the look's floor points that forget larger ones).
+    pub(super) fn grid_sees_free(&self, prism: &Prism) -> bool {
+        let classes = self.cells_under(prism);
+        !classes.is_empty()
+            && classes
+                .iter()
+                .all(|(_, c)| *c == Some(nudge_perception::grid::CellClass::Free))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::runner::unseen::SeenMemory;
+    use crate::runner::world::tests::{config_to, floor, prism};
+    use nudge_perception::grid::ObstacleGrid;
+
+    #[test]
+    fn an_obstacle_seen_from_one_side_has_a_quarter_of_its_outline_seen() {
+        // Invariant: the outline seen is the share of a footprint's edges whose floor just outside was seen, or that lie against another obstacle; a box whose west side alone was seen has a quarter of it, with a neighbour against its east side a half, with everything round it seen all of it; the places it was seen from are those of the looks that showed it.
+        let config = config_to(Point2::new(5.0, 1.0));
+        let geometry =
+            nudge_perception::grid::GridGeometry::new(Point2::origin(), [4.0, 2.0], 0.05)
+                .expect("a grid");
+        let grid = ObstacleGrid::new(geometry, config.grid.rules);
+        let mut world = WorldModel {
+            memory: SeenMemory::new(geometry.len()),
+            grid: Some(grid),
+            ..WorldModel::default()
+        };
+        let object = prism(1, 2.0, 0.5, 2.5, 1.0);
+        let west = floor(1.5, 0.3, 1.95, 1.2);
+        world.memory.saw(&geometry, &west);
+        world.prisms = vec![object.clone()];
+        let (share, from) = world.outline_seen(&object);
+        assert!((share - 0.25).abs() < 0.05, "{share}");
+        assert!(from.is_empty());
+        world.prisms.push(prism(2, 2.55, 0.3, 3.0, 1.2));
+        let (share, _) = world.outline_seen(&object);
+        assert!((share - 0.5).abs() < 0.05, "{share}");
+        world.memory.saw(&geometry, &floor(1.5, 0.0, 3.5, 1.9));
+        let (share, _) = world.outline_seen(&object);
+        assert!((share - 1.0).abs() < 1e-9, "{share}");
+        let mut looked = WorldModel::default();
+        looked.remember(
+            vec![object.clone()],
+            &floor(0.1, 0.1, 0.2, 0.2),
+            &Point2::new(0.6, 0.75),
+            &config,
+        );
+        looked.remember(
+            vec![object.clone()],
+            &floor(0.1, 0.1, 0.2, 0.2),
+            &Point2::new(1.2, 1.6),
+            &config,
+        );
+        assert_eq!(
+            looked.outline_seen(&looked.prisms[0]).1,
+            &[Point2::new(0.6, 0.75), Point2::new(1.2, 1.6)]
+        );
+    }
+}
