@@ -13,6 +13,19 @@ use nudge_perception::{ColourCloud, PerceptionConfig};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::scenario::Scenario;
 
+/// Prints a run's timeline, one transition a line with its robot-time stamp.
+pub fn print_timeline(report: &RunReport) {
+    for t in &report.timeline {
+        println!(
+            "  {:7.2} s  {} -> {} ({:?})",
+            t.stamp,
+            t.from.unwrap_or("(start)"),
+            t.to,
+            t.edge
+        );
+    }
+}
+
 /// Path of the repository's `scenarios/` folder, for tests that load scenario files.
 pub fn scenarios_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -12,6 +12,7 @@ use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::truth::{Movability, Truth};
+use nudge_tests::print_timeline;
 use nudge_tests::truth::{Scored, score};
 
 fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
@@ -35,19 +36,6 @@ fn run(name: &str, policy: CandidatePolicy) -> (RunReport, Vec<Scored>) {
         );
     }
     (report, scored)
-}
-
-/// Prints a run's timeline, one transition a line with its robot-time stamp.
-fn print_timeline(report: &RunReport) {
-    for t in &report.timeline {
-        println!(
-            "  {:7.2} s  {} -> {} ({:?})",
-            t.stamp,
-            t.from.unwrap_or("(start)"),
-            t.to,
-            t.edge
-        );
-    }
 }
 
 fn assert_all_correct(scored: &[Scored]) {

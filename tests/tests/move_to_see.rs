@@ -22,15 +22,7 @@ fn run(name: &str) -> (RunReport, Vec<Scored>) {
         report.robot_time,
         report.knowledge.push_tests
     );
-    for t in &report.timeline {
-        println!(
-            "  {:7.2} s  {} -> {} ({:?})",
-            t.stamp,
-            t.from.unwrap_or("(start)"),
-            t.to,
-            t.edge
-        );
-    }
+    nudge_tests::print_timeline(&report);
     for v in &report.knowledge.explanation.views {
         println!(
             "  view at ({:.2}, {:.2}) for {}",

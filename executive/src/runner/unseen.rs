@@ -459,6 +459,7 @@ pub(crate) fn regions(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::runner::world::tests::box_prism;
 
     fn geometry() -> GridGeometry {
         GridGeometry::new(Point2::origin(), [2.0, 1.0], 0.05).expect("a grid")
@@ -509,25 +510,6 @@ mod tests {
         (grid, memory)
     }
 
-    fn square(id: u32, x0: f64, y0: f64, x1: f64, y1: f64) -> Prism {
-        Prism {
-            id: nudge_perception::ObjectId(id),
-            footprint: vec![
-                Point2::new(x0, y0),
-                Point2::new(x1, y0),
-                Point2::new(x1, y1),
-                Point2::new(x0, y1),
-            ],
-            z_min: 0.0,
-            z_max: 0.8,
-            points: ColourCloud::empty(
-                nudge_perception::CloudFrame::Map,
-                nalgebra::Isometry3::identity(),
-                0.0,
-            ),
-        }
-    }
-
     #[test]
     fn a_walk_stops_only_for_a_strip_of_unseen_floor_across_its_way() {
         // Invariant: unseen floor under the path counts once it adds up to the least area worth a look (here 0.035 m²), between the near and far distances only; a lone unseen cell or unseen floor beside the band does not count.
@@ -551,8 +533,8 @@ mod tests {
     fn the_floor_that_matters_to_a_push_leaves_out_the_insides_of_obstacles() {
         // Invariant: the unseen floor around an object to push lies within the ring of its footprint and outside every obstacle, its own inside and its neighbour's included.
         let (grid, memory) = seen_but(|p| p.x > 1.0);
-        let object = square(1, 1.5, 0.8, 2.0, 1.3);
-        let beside = square(2, 2.3, 0.8, 2.8, 1.3);
+        let object = box_prism(1, (1.5, 0.8, 2.0, 1.3), 0.8);
+        let beside = box_prism(2, (2.3, 0.8, 2.8, 1.3), 0.8);
         let cells = unseen_around(
             &grid,
             &memory,
