@@ -79,6 +79,43 @@ impl Prism {
         }
     }
 
+    /// The prism made of those of its points that `keep` accepts: the footprint is their convex hull
+    /// (at least `min_thickness` thick), the heights theirs. For a detection that joined a moved object
+    /// to something it came to rest against (a cart pushed up to a wall's end, closer than perception
+    /// tells apart): the points that belong to what did not move are left out. `None` when fewer than
+    /// three points are kept.
+    pub fn with_points_where(
+        &self,
+        keep: impl Fn(&Point3<f32>) -> bool,
+        min_thickness: f64,
+    ) -> Option<Prism> {
+        let mut points = ColourCloud::empty(
+            self.points.frame(),
+            *self.points.sensor_pose(),
+            self.points.stamp(),
+        );
+        let (mut z_min, mut z_max) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut xy = Vec::new();
+        for (_, p, c) in self.points.iter_valid().filter(|(_, p, _)| keep(p)) {
+            points.push(p, c);
+            z_min = z_min.min(f64::from(p.z));
+            z_max = z_max.max(f64::from(p.z));
+            xy.push(parry2d::math::Vector2::new(p.x, p.y));
+        }
+        (xy.len() >= 3).then(|| Prism {
+            id: self.id,
+            footprint: crate::prisms::convex_footprint(&xy, min_thickness),
+            z_min: z_min.max(0.0),
+            z_max,
+            points,
+        })
+    }
+
+    /// Distance (m) in the floor plane from `p` to the footprint: zero inside or on it.
+    pub fn distance_xy(&self, p: &Point2<f64>) -> f64 {
+        distance_to_convex(&self.footprint, p)
+    }
+
     /// The prism after the object moved by `motion` (a map-frame rigid motion, e.g. a colour-ICP
     /// result): footprint and points move with it. Heights are kept, the motion being a push on the
     /// floor; pass the moved prism to [`track_ids`] so the object keeps its id after a push.
@@ -200,6 +237,34 @@ fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>
         }
     }
     out
+}
+
+/// Distance (m) from `p` to the convex CCW polygon `f`: zero inside or on it.
+fn distance_to_convex(f: &[Point2<f64>], p: &Point2<f64>) -> f64 {
+    let n = f.len();
+    if n == 0 {
+        return f64::INFINITY;
+    }
+    let inside = n >= 3
+        && (0..n).all(|i| {
+            let (a, b) = (f[i], f[(i + 1) % n]);
+            (b - a).perp(&(p - a)) >= -1e-12
+        });
+    if inside {
+        return 0.0;
+    }
+    (0..n)
+        .map(|i| {
+            let (a, b) = (f[i], f[(i + 1) % n]);
+            let ab = b - a;
+            let t = if ab.norm_squared() > 1e-18 {
+                ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (p - (a + ab * t)).norm()
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[cfg(test)]

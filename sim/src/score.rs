@@ -41,7 +41,7 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
         .verdicts
         .iter()
         .map(|(id, verdict)| {
-            let prism = report.obstacles.iter().find(|p| p.id == *id);
+            let prism = report.obstacle(*id);
             let covered = prism.and_then(|p| {
                 world
                     .objects()

@@ -73,6 +73,8 @@ impl WorldModel {
                         continue;
                     };
                     if (judged(a) && judged(b))
+                        || self.taller_than_moved(a, b)
+                        || self.taller_than_moved(b, a)
                         || !oa.heights_overlap(ob)
                         || !oa.aabb().inflated(SURFACE_GAP).overlaps(ob.aabb())
                     {
@@ -106,6 +108,7 @@ impl WorldModel {
             };
             let b = self.prisms.remove(j);
             let a = &self.prisms[i];
+            let a_id = a.id;
             let id = match (judged(a), judged(&b)) {
                 (true, _) => a.id,
                 (false, true) => b.id,
@@ -118,6 +121,9 @@ impl WorldModel {
             }
             self.prisms[i] = merged;
             self.pushed.remove(&b.id);
+            for absorbed in [a_id, b.id].into_iter().filter(|k| *k != id) {
+                self.joined.insert(absorbed, id);
+            }
             // The merged obstacle was seen from wherever either piece was.
             let places = self.seen_from.remove(&b.id).unwrap_or_default();
             let from = self.seen_from.entry(id).or_default();
@@ -127,6 +133,17 @@ impl WorldModel {
                 }
             }
         }
+    }
+}
+
+impl WorldModel {
+    /// Whether `moved` is an object the robot pushed and `other` rises above its top: an object pushed
+    /// over the floor keeps its height, so what stands taller beside it is something else (see
+    /// [`Self::remember`]).
+    fn taller_than_moved(&self, moved: &Prism, other: &Prism) -> bool {
+        self.moved.contains(&moved.id)
+            && !self.settled.contains(&moved.id)
+            && other.z_max > moved.z_max + super::world::RESTING_COLUMN
     }
 }
 
@@ -237,27 +254,8 @@ const MERGE_BLOCKING_FREE_AREA: f64 = 0.02;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::runner::world::tests::{box_prism, config_to, floor};
+    use crate::runner::world::tests::{config_to, floor, solid};
     use nudge_perception::ObjectId;
-
-    /// A prism `[x0, x1] × [y0, y1]` up to `z` whose points cover its top at 2 cm spacing.
-    fn solid(id: u32, (x0, y0, x1, y1): (f64, f64, f64, f64), z: f64) -> Prism {
-        let mut p = box_prism(id, (x0, y0, x1, y1), z);
-        let steps = |a: f64, b: f64| {
-            (0..)
-                .map(move |k| a + 0.02 * f64::from(k))
-                .take_while(move |v| *v <= b + 1e-9)
-        };
-        for x in steps(x0, x1) {
-            for y in steps(y0, y1) {
-                p.points.push(
-                    nalgebra::Point3::new(x as f32, y as f32, z as f32),
-                    [90, 60, 30],
-                );
-            }
-        }
-        p
-    }
 
     #[test]
     fn pieces_of_one_object_merge_and_two_objects_side_by_side_do_not() {

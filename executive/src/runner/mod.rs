@@ -125,6 +125,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             robot_time: self.robot.now() - self.start_time,
             timeline,
             obstacles: self.world.prisms.clone(),
+            joined: self.world.joined.clone(),
             grid: self.world.grid.clone(),
         }
     }

@@ -430,9 +430,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(i) => return i.into(),
         };
         let stand = Point2::from(intent.stand.translation.vector);
-        // Already there, within the walk's own error (a push planned from where the last one left
-        // the robot): turn, do not step away and back.
-        if (stand - here).norm() <= ARRIVAL_SLACK {
+        // Already there, within what the arm absorbs of a stand pose missed (a push planned from
+        // where the last one left the robot): turn, do not step away and back. Farther off, the
+        // stroke's line could leave the arm's reach: walk there.
+        if (stand - here).norm() <= super::push::LATERAL_SLACK {
             return match self.turn_to(intent.direction.y.atan2(intent.direction.x)) {
                 Ok(WalkOutcome::Arrived) => Event::Arrived,
                 Ok(_) => Event::WalkBlocked,
@@ -518,7 +519,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.plan_to(here, Some(view.position))
     }
 
-    fn turn_to(&mut self, yaw: f64) -> Result<WalkOutcome, Interrupt> {
+    pub(super) fn turn_to(&mut self, yaw: f64) -> Result<WalkOutcome, Interrupt> {
         self.robot.start_turn(yaw)?;
         self.wait(|r| r.walk_status())
     }

@@ -11,7 +11,7 @@ use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::{IcpReading, PushEvidence, PushIntent};
 use crate::record::Observer;
-use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
+use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, WalkOutcome, Wrench};
 
 /// Clear strokes start this far beyond the body's radius (m): room for the hand and the walk's margin.
 const STROKE_STANDOFF: f64 = 0.12;
@@ -169,7 +169,23 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Some(p) => Some(self.object_points(p, Vector2::zeros())?),
             None => None,
         };
-        let contact = self.contact_in_base(intent)?;
+        let planned = self.contact_in_base(intent)?;
+        // The object's face on the hand's line as the look just taken shows it, where that is well
+        // nearer than planned: a face planned on a hull's edge across a part never seen (a chair's back seen
+        // only at its ends) may lie centimetres behind the real one, and a stroke started past the
+        // real face would drive the hand into the object.
+        let seen = match &before {
+            Some(cloud) => {
+                let base = self.robot.base_pose()?.value;
+                let half = self.config.push.hand_half_width;
+                face_on_line(cloud, &base, planned.y, intent.hand_height, half)
+            }
+            None => None,
+        };
+        // The approach gap absorbs a face up to half of it nearer than planned (perception's few
+        // centimetres); only a face nearer than that moves the stroke's start.
+        let nearer = seen.filter(|x| *x < planned.x - motion.approach_gap / 2.0);
+        let contact = Point2::new(nearer.unwrap_or(planned.x), planned.y);
         let from_x = (contact.x - motion.approach_gap).max(motion.near);
         let to_x = (contact.x + motion.test_travel).min(motion.reach);
         let limit = self.config.executive.force_limit;
@@ -258,7 +274,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .max(at_least)
                 .min(face_x - stroke_start);
             if ahead > 0.02 {
-                self.step_forward(direction, ahead)?;
+                self.step_forward(direction, ahead, intent.target)?;
                 base = self.robot.base_pose()?.value;
             }
             let face = base.inverse_transform_point(&face_map);
@@ -295,11 +311,34 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         Ok(Event::Cleared { moved })
     }
 
-    fn step_forward(&mut self, direction: Vector2<f64>, distance: f64) -> Result<(), Interrupt> {
+    /// Walks `distance` along `direction` after the pushed object. A walk refused at once (the body
+    /// already within the base's safety margin of something beside it, the push a few degrees off
+    /// parallel to a table's edge) slides instead: along `direction` less its part towards the
+    /// nearest other obstacle the world model knows there.
+    fn step_forward(
+        &mut self,
+        direction: Vector2<f64>,
+        distance: f64,
+        pushed: ObjectId,
+    ) -> Result<(), Interrupt> {
         let here = self.robot.base_pose()?.value;
-        let to = Point2::from(here.translation.vector) + direction * distance;
+        let from = Point2::from(here.translation.vector);
+        self.robot.start_walk(&[from + direction * distance])?;
+        let outcome = self.wait(|r| r.walk_status())?;
+        let now = Point2::from(self.robot.base_pose()?.value.translation.vector);
+        if !matches!(outcome, WalkOutcome::Blocked { .. }) || (now - from).norm() > SLIDE_AFTER {
+            return Ok(());
+        }
+        let reach = self.config.robot.radius + SLIDE_NEAR;
+        let Some(to) = nearest_other(&self.world.prisms, &from, reach, pushed)
+            .and_then(|nearest| slide_target(&from, &direction, distance, &nearest, reach))
+        else {
+            return Ok(());
+        };
         self.robot.start_walk(&[to])?;
         self.wait(|r| r.walk_status())?;
+        // Face the push again: the strokes run along the body's axis.
+        self.turn_to(direction.y.atan2(direction.x))?;
         Ok(())
     }
 
@@ -456,9 +495,88 @@ fn icp_reading(
     Some((reading, moved.xy()))
 }
 
+/// The nearest point (`base_link` x) of `cloud` (map frame) on the hand's line at lateral offset `y`
+/// and height `z`: within `half` (m) of it sideways and in height, the hand's face being a square of
+/// that half side. `None` when no point lies ahead on the line.
+fn face_on_line(
+    cloud: &ColourCloud,
+    base: &nalgebra::Isometry2<f64>,
+    y: f64,
+    z: f64,
+    half: f64,
+) -> Option<f64> {
+    cloud
+        .iter_valid()
+        .filter(|(_, p, _)| (f64::from(p.z) - z).abs() <= half)
+        .map(|(_, p, _)| base.inverse_transform_point(&Point2::new(f64::from(p.x), f64::from(p.y))))
+        .filter(|q| q.x > 0.0 && (q.y - y).abs() <= half)
+        .map(|q| q.x)
+        .min_by(f64::total_cmp)
+}
+
+/// A walk after the object that got no further than this (m) was refused at once.
+const SLIDE_AFTER: f64 = 0.01;
+
+/// Obstacles whose footprint lies within this (m) of the body's edge are what a refused walk is
+/// slid along: the base's safety margin and perception's few centimetres of footprint error.
+const SLIDE_NEAR: f64 = 0.1;
+
+/// Where a walk of `distance` from `from` along `direction` slides to past `nearest`, the nearest
+/// point of another obstacle: along it, and away from it until the body's axis is `reach` (m) from it,
+/// the base moving only away from what it is within its safety margin of. `None` when the walk does
+/// not head into that obstacle or runs straight at it.
+fn slide_target(
+    from: &Point2<f64>,
+    direction: &Vector2<f64>,
+    distance: f64,
+    nearest: &Point2<f64>,
+    reach: f64,
+) -> Option<Point2<f64>> {
+    let gap = (nearest - from).norm();
+    if gap < 1e-9 {
+        return None;
+    }
+    let towards = (nearest - from) / gap;
+    let into = direction.dot(&towards);
+    let along = direction - towards * into;
+    (into > 0.0 && along.norm() >= 1e-3)
+        .then(|| from + along.normalize() * distance - towards * (reach - gap).max(0.0))
+}
+
+/// The point nearest `at` on the footprint of any obstacle but `except` within `within` (m).
+fn nearest_other(
+    prisms: &[Prism],
+    at: &Point2<f64>,
+    within: f64,
+    except: ObjectId,
+) -> Option<Point2<f64>> {
+    prisms
+        .iter()
+        .filter(|p| p.id != except)
+        .flat_map(|p| {
+            let f = &p.footprint;
+            (0..f.len()).map(move |i| closest_on_segment(&f[i], &f[(i + 1) % f.len()], at))
+        })
+        .map(|q| ((q - at).norm(), q))
+        .filter(|(d, _)| *d <= within)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, q)| q)
+}
+
+/// The point of the segment `a`–`b` nearest `p`.
+fn closest_on_segment(a: &Point2<f64>, b: &Point2<f64>, p: &Point2<f64>) -> Point2<f64> {
+    let ab = b - a;
+    let t = if ab.norm_squared() > 1e-18 {
+        ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    a + ab * t
+}
+
 /// How far outside the arm's sideways reach (m) a stroke's line is moved back to its edge: the error
 /// of a walk to a stand pose, not a plan that asked for more than the arm can do.
-const LATERAL_SLACK: f64 = 0.02;
+pub(super) const LATERAL_SLACK: f64 = 0.02;
 
 /// `y` moved onto the nearer edge of `reach` when it lies at most [`LATERAL_SLACK`] outside it;
 /// otherwise unchanged (the arm then refuses a line the plan never meant).
@@ -475,6 +593,39 @@ fn clamp_lateral(y: f64, (lo, hi): (f64, f64)) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_face_on_the_hands_line_is_the_nearest_point_ahead_within_the_hands_square() {
+        // Invariant: the face the hand meets is the nearest point ahead of the body within the hand's half side of its line, sideways and in height; points beside the line, above or below the hand, or behind the body do not count, and no point on the line means no face.
+        let base = nalgebra::Isometry2::new(Vector2::new(2.0, 1.0), std::f64::consts::FRAC_PI_2);
+        let mut cloud = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        // base_link (x, y) is map (2 - y, 1 + x) for a base at (2, 1) facing +y.
+        let at = |x: f64, y: f64, z: f64| Point3::new((2.0 - y) as f32, (1.0 + x) as f32, z as f32);
+        cloud.push(at(0.52, 0.0, 0.45), [1, 2, 3]);
+        cloud.push(at(0.47, 0.04, 0.42), [1, 2, 3]);
+        cloud.push(at(0.30, 0.20, 0.45), [1, 2, 3]);
+        cloud.push(at(0.30, 0.0, 0.70), [1, 2, 3]);
+        cloud.push(at(-0.20, 0.0, 0.45), [1, 2, 3]);
+        let x = face_on_line(&cloud, &base, 0.0, 0.45, 0.05).expect("a face on the line");
+        assert!((x - 0.47).abs() < 1e-5, "{x}");
+        assert!(face_on_line(&cloud, &base, -0.3, 0.45, 0.05).is_none());
+    }
+
+    #[test]
+    fn a_walk_refused_beside_an_obstacle_slides_along_it_and_off_it() {
+        // Invariant: a walk heading a few degrees into an obstacle beside the body slides parallel to it and ends at the reach from it (never nearer than it started); a walk heading away from it, or straight at it, does not slide.
+        let from = Point2::new(8.6, 0.83);
+        let table = Point2::new(8.6, 1.2);
+        let into = Vector2::new(4f64.to_radians().cos(), 4f64.to_radians().sin());
+        let to = slide_target(&from, &into, 0.3, &table, 0.45).expect("a slide");
+        assert!(
+            (to.x - 8.9).abs() < 1e-9 && (to.y - 0.75).abs() < 1e-9,
+            "{to:?}"
+        );
+        let away = Vector2::new(4f64.to_radians().cos(), -4f64.to_radians().sin());
+        assert!(slide_target(&from, &away, 0.3, &table, 0.45).is_none());
+        assert!(slide_target(&from, &Vector2::new(0.0, 1.0), 0.3, &table, 0.45).is_none());
+    }
 
     #[test]
     fn a_stroke_line_just_outside_the_sideways_reach_is_moved_onto_its_edge() {

@@ -39,6 +39,12 @@ pub(crate) struct WorldModel {
     /// Obstacles moved by a confirmed push since they were last seen: their footprints are predictions
     /// (the object may have turned as it slid), which the next sight of them replaces.
     pub pushed: BTreeSet<ObjectId>,
+    /// Obstacles the robot has ever moved by a push: one rigid body each, of known height, whose id a
+    /// later detection overlapping it takes (see [`Self::remember`]).
+    pub moved: BTreeSet<ObjectId>,
+    /// Obstacles a later look showed to be part of another, with the id of the one they joined (a
+    /// table tested at one end, found whole later): their verdicts are about that obstacle.
+    pub joined: std::collections::BTreeMap<ObjectId, ObjectId>,
     /// Per grid cell, the robot-clock stamp of the last look or walk frame that left it Moving (NaN:
     /// never). Frames of the robot's own pushes do not count: that motion is its own doing.
     pub last_motion: Vec<f64>,
@@ -223,7 +229,9 @@ impl WorldModel {
         let settled = |p: &Prism| self.settled.contains(&p.id);
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
         let mut absorbed = Vec::new();
+        let mut joins = Vec::new();
         for new in detected {
+            let new = self.parted_from_what_it_rests_against(new);
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
                 if self.pushed.contains(&old.id) && !settled(old) {
@@ -231,10 +239,18 @@ impl WorldModel {
                     // own id (its verdict stays with it; the look numbers its detections afresh).
                     merged.id = old.id;
                 } else if settled(old) {
+                    // One object tested at two places (both found static): it keeps the first id.
+                    let id = if settled(&merged) && merged.id != old.id {
+                        joins.push((old.id, merged.id));
+                        merged.id
+                    } else {
+                        old.id
+                    };
                     merged = old.merged_with(&merged);
+                    merged.id = id;
                 } else if !seen_floor(old, Some(&new)) && !floor_between(&merged, old) {
                     merged = merged.merged_with(old);
-                    if self.movable.contains(&old.id) {
+                    if self.movable.contains(&old.id) || self.moved.contains(&old.id) {
                         merged.id = old.id;
                     }
                 } else {
@@ -245,6 +261,7 @@ impl WorldModel {
             }
             current.push(merged);
         }
+        self.joined.extend(joins);
         // A pushed object seen again is no longer a prediction.
         self.pushed.retain(|id| !absorbed.contains(id));
         for old in &self.prisms {
@@ -280,6 +297,50 @@ impl WorldModel {
         }
     }
 
+    /// A detection of a pushed object that came to rest against something that did not move (a cart
+    /// pushed up to a wall's end, closer than perception tells apart), without the points of that
+    /// thing: those within [`RESTING_MARGIN`] of an obstacle known from before that was not pushed,
+    /// and every column of returns that rises above the pushed object's top (an object pushed over
+    /// the floor keeps its height: what stands taller beside it is something else). Other detections
+    /// are returned as they are.
+    fn parted_from_what_it_rests_against(&self, new: Prism) -> Prism {
+        let overlapping = |old: &&Prism| old.id == new.id || old.footprint_iou(&new) > 0.0;
+        let moved = |old: &Prism| self.moved.contains(&old.id) && !self.settled.contains(&old.id);
+        let Some(top) = self
+            .prisms
+            .iter()
+            .filter(overlapping)
+            .filter(|old| moved(old))
+            .map(|old| old.z_max)
+            .reduce(f64::max)
+        else {
+            return new;
+        };
+        let unmoved: Vec<&Prism> = self
+            .prisms
+            .iter()
+            .filter(overlapping)
+            .filter(|old| !moved(old) && !self.movable.contains(&old.id))
+            .collect();
+        let column = |x: f32, y: f32| {
+            let k = |v: f32| (f64::from(v) / RESTING_COLUMN).floor() as i64;
+            (k(x), k(y))
+        };
+        let taller: std::collections::BTreeSet<(i64, i64)> = new
+            .points
+            .iter_valid()
+            .filter(|(_, p, _)| f64::from(p.z) > top + RESTING_COLUMN)
+            .map(|(_, p, _)| column(p.x, p.y))
+            .collect();
+        let keep = |p: &nalgebra::Point3<f32>| {
+            let q = Point2::new(f64::from(p.x), f64::from(p.y));
+            !taller.contains(&column(p.x, p.y))
+                && unmoved.iter().all(|o| o.distance_xy(&q) > RESTING_MARGIN)
+        };
+        new.with_points_where(keep, RESTING_MIN_THICKNESS)
+            .unwrap_or(new)
+    }
+
     /// Moves `id`'s obstacle by a measured planar displacement (a confirmed push): its old footprint is
     /// free now even where no background shows behind it.
     pub fn displace(&mut self, id: nudge_perception::ObjectId, offset: nalgebra::Vector2<f64>) {
@@ -288,6 +349,7 @@ impl WorldModel {
             *p = p.transformed(&motion);
         }
         self.pushed.insert(id);
+        self.moved.insert(id);
     }
 
     /// Whether `prism` lies at the edge of everything seen: a wall, not an object to push.
@@ -326,6 +388,18 @@ impl WorldModel {
         Problem::new(*robot, config.goal, config.goal_tolerance).map_err(|e| e.to_string())
     }
 }
+
+/// Points this close (m) to an unmoved obstacle's footprint are that obstacle's: a footprint is built
+/// from the corners of 4 cm elevation cells, so a surface's points lie up to a cell inside it, and its
+/// points seen again lie within the range noise (about a centimetre) of where they were.
+const RESTING_MARGIN: f64 = 0.02;
+
+/// Side (m) of the columns in which returns above a pushed object's top are looked for, and how far
+/// above its top they must rise: perception's 4 cm elevation cell, a centimetre of range noise more.
+pub(super) const RESTING_COLUMN: f64 = 0.05;
+
+/// Thickness (m) given to what is left of a detection whose points lie on a line: perception's own.
+const RESTING_MIN_THICKNESS: f64 = 0.02;
 
 /// Looks taken this close together (m) were taken from one place.
 pub(super) const SAME_PLACE: f64 = 0.05;
@@ -377,6 +451,29 @@ pub(super) mod tests {
             z_max,
             points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
         }
+    }
+
+    /// A prism `[x0, x1] × [y0, y1]` up to `z` whose points cover its top at 2 cm spacing.
+    pub(in crate::runner) fn solid(
+        id: u32,
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        z: f64,
+    ) -> Prism {
+        let mut p = box_prism(id, (x0, y0, x1, y1), z);
+        let steps = |a: f64, b: f64| {
+            (0..)
+                .map(move |k| a + 0.02 * f64::from(k))
+                .take_while(move |v| *v <= b + 1e-9)
+        };
+        for x in steps(x0, x1) {
+            for y in steps(y0, y1) {
+                p.points.push(
+                    nalgebra::Point3::new(x as f32, y as f32, z as f32),
+                    [90, 60, 30],
+                );
+            }
+        }
+        p
     }
 
     /// The run's configuration for the paper's robot and a goal at `goal` (0.2 m tolerance).
@@ -604,5 +701,70 @@ pub(super) mod tests {
         world.remember(vec![part], &no_floor, &robot, &config);
         assert_eq!(world.prisms.len(), 1);
         assert!(world.prisms[0].contains_xy(&Point2::new(3.0, 1.1)));
+    }
+
+    #[test]
+    fn a_pushed_object_come_to_rest_against_a_wall_end_is_parted_from_it() {
+        // Invariant: a detection that joins an object the robot pushed to the wall end it came to rest against (closer than perception tells apart) keeps the object's id and only its points: those on the wall known from before and every column of returns rising above the object's top are left out, and the wall stays an obstacle of its own.
+        let config = config_to(Point2::new(6.2, 1.8));
+        let robot = Point2::new(1.5, 2.5);
+        let far_floor = floor(0.5, 3.0, 0.6, 3.1);
+        // The wall's west face, seen before the push; its end face (y = 1.2) was hidden by the cart.
+        let wall = solid(4, (3.5, 0.0, 3.54, 1.2), 1.3);
+        let cart = solid(9, (2.8, 1.6, 3.3, 2.1), 1.0);
+        let mut world = WorldModel {
+            prisms: vec![wall, cart],
+            ..WorldModel::default()
+        };
+        world.displace(ObjectId(9), nalgebra::Vector2::new(0.15, -0.65));
+        // The look's one detection: the cart where it came to rest, and the wall's end beside it.
+        let end = solid(0, (3.5, 0.9, 3.7, 1.2), 1.3);
+        let mut seen = solid(31, (2.95, 0.95, 3.45, 1.45), 1.0).merged_with(&end);
+        for (_, p, c) in end.points.iter_valid() {
+            seen.points.push(p, c);
+        }
+        world.remember(vec![seen], &far_floor, &robot, &config);
+        let cart = world
+            .prisms
+            .iter()
+            .find(|p| p.id == ObjectId(9))
+            .expect("the cart keeps its id");
+        assert!(cart.contains_xy(&Point2::new(3.2, 1.2)), "{cart:?}");
+        assert!(!cart.contains_xy(&Point2::new(3.6, 1.1)), "{cart:?}");
+        assert!(cart.z_max <= 1.0 + 1e-6);
+        assert!(world.prisms.iter().any(|p| p.id == ObjectId(4)));
+        // Seen again once it is no longer a prediction, the wall's end still stays out of it.
+        let mut again = solid(32, (2.95, 0.95, 3.45, 1.45), 1.0).merged_with(&end);
+        for (_, p, c) in end.points.iter_valid() {
+            again.points.push(p, c);
+        }
+        world.remember(vec![again], &far_floor, &robot, &config);
+        let cart = world
+            .prisms
+            .iter()
+            .find(|p| p.id == ObjectId(9))
+            .expect("the cart keeps its id");
+        assert!(!cart.contains_xy(&Point2::new(3.6, 1.1)), "{cart:?}");
+    }
+
+    #[test]
+    fn one_object_found_static_at_two_places_keeps_the_first_id_and_the_other_joins_it() {
+        // Invariant: when a look shows two obstacles that push tests both found static to be one object, one obstacle remains under the first id, and the other id is recorded as joined to it (its verdict is about that obstacle).
+        let config = config_to(Point2::new(5.4, 1.8));
+        let robot = Point2::new(1.0, 2.5);
+        let mut world = WorldModel {
+            prisms: vec![
+                solid(1, (2.6, 1.2, 3.0, 2.4), 1.1),
+                solid(36, (3.15, 1.6, 3.4, 2.4), 1.1),
+            ],
+            ..WorldModel::default()
+        };
+        world.settled.extend([ObjectId(1), ObjectId(36)]);
+        let whole = solid(50, (2.6, 1.2, 3.4, 2.4), 1.1);
+        world.remember(vec![whole], &floor(0.5, 3.0, 0.6, 3.1), &robot, &config);
+        assert_eq!(world.prisms.len(), 1, "{:?}", world.prisms);
+        assert_eq!(world.prisms[0].id, ObjectId(1));
+        assert!(world.prisms[0].contains_xy(&Point2::new(3.3, 2.0)));
+        assert_eq!(world.joined.get(&ObjectId(36)), Some(&ObjectId(1)));
     }
 }
