@@ -62,6 +62,9 @@ pub struct PushConfig {
     pub distance_margin: f64,
     /// Faces whose normals differ by less than this are one push direction (rad).
     pub merge_angle: f64,
+    /// Side of the cells a footprint's vertices lie on (m): perception's elevation cell. An edge of
+    /// length `L` of such a hull may lean up to `atan(cell / L)` off the face it was made from.
+    pub footprint_cell: f64,
     /// Planner for the approach and for the path after the push.
     pub planner: RrtConnect,
     /// Its budget per query.
@@ -88,6 +91,7 @@ impl Default for PushConfig {
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
+            footprint_cell: 0.04,
             planner: RrtConnect::default(),
             budget: Budget::iterations(5_000),
             shortcut: Shortcut::default(),
@@ -332,11 +336,15 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
             direction: Unit::new_unchecked(-outward.into_inner()),
             hand_height,
         };
-        // Nearly parallel faces (a hull of noisy points) are one direction: keep the longest.
-        match faces
-            .iter_mut()
-            .find(|g| g.direction.angle(&face.direction) < config.merge_angle)
-        {
+        // Nearly parallel faces (a hull of noisy points) are one direction: keep the longest. A short
+        // edge beside a face (a hull's corner cut a cell deep) leans off it by up to the angle a
+        // footprint cell subtends over its length: one face too, not a push at the object's corner.
+        let one_face = |g: &Face| {
+            let shorter = (g.b - g.a).norm().min(edge.norm()).max(1e-6);
+            let lean = (config.footprint_cell / shorter).atan();
+            g.direction.angle(&face.direction) < config.merge_angle.max(lean)
+        };
+        match faces.iter_mut().find(|g| one_face(g)) {
             Some(g) if (g.b - g.a).norm() < edge.norm() => *g = face,
             Some(_) => {}
             None => faces.push(face),
@@ -727,5 +735,41 @@ mod tests {
             .filter_map(|i| face_from(&square, i, 0.1))
             .collect();
         assert_eq!(faces.len(), 4);
+    }
+
+    #[test]
+    fn a_short_edge_leaning_a_cell_off_a_face_is_that_face_and_a_bevel_is_not() {
+        // Invariant: a hull edge 11 cm long leaning 11° off the face beside it (a corner cut one 4 cm footprint cell deep) is no push direction of its own: the object's faces stay its four sides, pushed square; an 11 cm edge cut at 45° is a face of its own.
+        let faces_of = |footprint: Vec<Point2<f64>>| {
+            let prism = Prism {
+                id: ObjectId(1),
+                footprint: footprint.clone(),
+                z_min: 0.0,
+                z_max: 1.0,
+                points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
+            };
+            let obstacle = Obstacle::new(ObjectId(1), &footprint, 0.0, 1.0).expect("convex");
+            pushable_faces(&obstacle, &prism, &PushConfig::default())
+        };
+        let leaning = faces_of(vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.5, 0.0),
+            Point2::new(0.5, 0.5),
+            Point2::new(0.11, 0.5),
+            Point2::new(0.0, 0.478),
+        ]);
+        assert_eq!(leaning.len(), 4);
+        assert!(leaning.iter().all(|f| {
+            let d = f.direction.into_inner();
+            d.x.abs() < 1e-9 || d.y.abs() < 1e-9
+        }));
+        let bevelled = faces_of(vec![
+            Point2::new(0.0, 0.0),
+            Point2::new(0.5, 0.0),
+            Point2::new(0.5, 0.5),
+            Point2::new(0.078, 0.5),
+            Point2::new(0.0, 0.422),
+        ]);
+        assert_eq!(bevelled.len(), 5);
     }
 }
