@@ -64,15 +64,9 @@ impl Prism {
     /// The prism grown to cover `other` too: the convex hull of both footprints, both height ranges, and
     /// this prism's id and points. For one object seen in parts from different places.
     pub fn merged_with(&self, other: &Prism) -> Prism {
-        let pts: Vec<parry2d::math::Vector2> = self
-            .footprint
-            .iter()
-            .chain(other.footprint.iter())
-            .map(|p| parry2d::math::Vector2::new(p.x as f32, p.y as f32))
-            .collect();
         Prism {
             id: self.id,
-            footprint: crate::prisms::convex_footprint(&pts, 0.0),
+            footprint: self.merged_footprint(other),
             z_min: self.z_min.min(other.z_min),
             z_max: self.z_max.max(other.z_max),
             points: self.points.clone(),
@@ -114,6 +108,17 @@ impl Prism {
     /// Distance (m) in the floor plane from `p` to the footprint: zero inside or on it.
     pub fn distance_xy(&self, p: &Point2<f64>) -> f64 {
         distance_to_convex(&self.footprint, p)
+    }
+
+    /// The convex hull of both footprints: [`Self::merged_with`]'s footprint, without copying points.
+    pub fn merged_footprint(&self, other: &Prism) -> Vec<Point2<f64>> {
+        let pts: Vec<parry2d::math::Vector2> = self
+            .footprint
+            .iter()
+            .chain(other.footprint.iter())
+            .map(|p| parry2d::math::Vector2::new(p.x as f32, p.y as f32))
+            .collect();
+        crate::prisms::convex_footprint(&pts, 0.0)
     }
 
     /// The prism after the object moved by `motion` (a map-frame rigid motion, e.g. a colour-ICP

@@ -6,6 +6,7 @@ use nudge_perception::grid::ObstacleGrid;
 use nudge_perception::{ColourCloud, Prism};
 
 use super::config::RunConfig;
+use super::floor_index::FloorIndex;
 use super::world::{SAME_PLACE, WorldModel, footprint_box};
 
 impl WorldModel {
@@ -16,32 +17,20 @@ impl WorldModel {
         &self,
         a: &Prism,
         b: &Prism,
-        floor_points: &ColourCloud,
+        floor: &FloorIndex,
         config: &RunConfig,
     ) -> bool {
-        let hull = a.merged_with(b);
+        let hull = outline_of_both(a, b);
         let outside_both = |q: &Point2<f64>| !a.contains_xy(q) && !b.contains_xy(q);
         let (lo, hi) = footprint_box(&hull);
-        let in_gap = |q: &Point2<f64>| {
-            q.x >= lo.x
-                && q.y >= lo.y
-                && q.x <= hi.x
-                && q.y <= hi.y
-                && hull.contains_xy(q)
-                && outside_both(q)
-        };
+        let in_gap = |q: &Point2<f64>| hull.contains_xy(q) && outside_both(q);
         let n = config.forget_after_floor_points;
-        floor_points
-            .iter_valid()
-            .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
-            .filter(|q| in_gap(q))
-            .take(n)
-            .count()
-            >= n
-            || self
-                .grid
-                .as_ref()
-                .is_some_and(|g| free_area_where(g, (lo, hi), in_gap) >= MERGE_BLOCKING_FREE_AREA)
+        floor.in_box(lo, hi).filter(|q| in_gap(q)).take(n).count() >= n
+            || self.grid.as_ref().is_some_and(|g| {
+                free_area_where(g, (lo, hi), |q| {
+                    q.x >= lo.x && q.y >= lo.y && q.x <= hi.x && q.y <= hi.y && in_gap(q)
+                }) >= MERGE_BLOCKING_FREE_AREA
+            })
     }
 
     /// Merges obstacles that are pieces of one thing: footprints within two grid cells of each other,
@@ -51,7 +40,7 @@ impl WorldModel {
     /// around the whole, but a push of one piece "runs into" the next. Two obstacles that both carry a
     /// push test's verdict stay apart; a merge keeps the id of the one that has a verdict (else the
     /// older id).
-    pub(super) fn merge_fragments(&mut self, floor_points: &ColourCloud, config: &RunConfig) {
+    pub(super) fn merge_fragments(&mut self, floor: &FloorIndex, config: &RunConfig) {
         // Two cells: a hull's edge runs a cell off the face it was made from, on either side.
         let gap = 2.0
             * self
@@ -81,7 +70,7 @@ impl WorldModel {
                         continue;
                     }
                     let apart = oa.distance_to_obstacle(ob);
-                    let hull = a.merged_with(b);
+                    let hull = outline_of_both(a, b);
                     // Their hull adds no more than a strip of the surface gap along it: pieces of one
                     // run, not two walls meeting at a corner (whose hull is a triangle of floor).
                     let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint);
@@ -94,8 +83,7 @@ impl WorldModel {
                     let one_surface = apart <= SURFACE_GAP
                         && extent(&hull) <= config.max_candidate_extent
                         && points_within(a, b, SURFACE_GAP);
-                    let touching =
-                        || apart <= gap && !self.floor_between(a, b, floor_points, config);
+                    let touching = || apart <= gap && !self.floor_between(a, b, floor, config);
                     if !one_surface && !touching() {
                         continue;
                     }
@@ -144,6 +132,22 @@ impl WorldModel {
         self.moved.contains(&moved.id)
             && !self.settled.contains(&moved.id)
             && other.z_max > moved.z_max + super::world::RESTING_COLUMN
+    }
+}
+
+/// The convex hull of `a`'s and `b`'s footprints as a prism of `a`'s heights with no points: their
+/// outline together, to measure and test points against.
+fn outline_of_both(a: &Prism, b: &Prism) -> Prism {
+    Prism {
+        id: a.id,
+        footprint: a.merged_footprint(b),
+        z_min: a.z_min.min(b.z_min),
+        z_max: a.z_max.max(b.z_max),
+        points: ColourCloud::empty(
+            nudge_perception::CloudFrame::Map,
+            nalgebra::Isometry3::identity(),
+            0.0,
+        ),
     }
 }
 
@@ -312,14 +316,14 @@ mod tests {
         };
         world.settled.insert(ObjectId(3));
         world.movable.insert(ObjectId(4));
-        world.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
+        world.merge_fragments(&FloorIndex::new(&floor(0.1, 0.1, 0.2, 0.2)), &config);
         assert_eq!(world.prisms.len(), 2);
         let mut one = WorldModel {
             prisms: vec![solid(2, (2.0, 1.0, 2.5, 1.5), 0.8), b],
             ..WorldModel::default()
         };
         one.movable.insert(ObjectId(4));
-        one.merge_fragments(&floor(0.1, 0.1, 0.2, 0.2), &config);
+        one.merge_fragments(&FloorIndex::new(&floor(0.1, 0.1, 0.2, 0.2)), &config);
         assert_eq!(one.prisms.len(), 1);
         assert_eq!(one.prisms[0].id, ObjectId(4));
     }

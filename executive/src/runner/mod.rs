@@ -6,6 +6,7 @@
 //! request and the robot-time budget while anything runs. Nothing here reads the wall clock.
 
 mod config;
+mod floor_index;
 mod fragments;
 mod grid;
 mod look;

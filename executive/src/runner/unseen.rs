@@ -57,11 +57,13 @@ impl SeenMemory {
             if !(x.is_finite() && y.is_finite()) {
                 continue;
             }
-            let (cx, cy) = (
-                ((f64::from(*x) - o.x) * inv).floor() as i64,
-                ((f64::from(*y) - o.y) * inv).floor() as i64,
-            );
-            if cx < 0 || cy < 0 || cx >= w || cy >= h {
+            let (fx, fy) = ((f64::from(*x) - o.x) * inv, (f64::from(*y) - o.y) * inv);
+            // Off the grid's low edges first: above them, truncation is the floor.
+            if fx < 0.0 || fy < 0.0 {
+                continue;
+            }
+            let (cx, cy) = (fx as i64, fy as i64);
+            if cx >= w || cy >= h {
                 continue;
             }
             let i = (cy * w + cx) as usize;

@@ -8,6 +8,7 @@ use std::collections::BTreeSet;
 use nudge_perception::{ColourCloud, FloorModel, ObjectId, Prism};
 
 use super::config::RunConfig;
+use super::floor_index::FloorIndex;
 use super::unseen::SeenMemory;
 
 /// The runner's world model.
@@ -206,19 +207,17 @@ impl WorldModel {
         // The robot cannot stand inside an object: what it stands on was moved (or never was).
         let radius = config.robot.radius;
         self.prisms.retain(|p| !prism_covers_disc(p, robot, radius));
+        let floor = FloorIndex::new(floor_points);
         let seen_floor = |old: &Prism, new: Option<&Prism>| {
-            // A box test first: most of the look's floor points lie far from any one obstacle.
             let (lo, hi) = footprint_box(old);
-            floor_points
-                .iter_valid()
-                .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
-                .filter(|q| q.x >= lo.x && q.y >= lo.y && q.x <= hi.x && q.y <= hi.y)
+            floor
+                .in_box(lo, hi)
                 .filter(|q| old.contains_xy(q) && !new.is_some_and(|n| n.contains_xy(q)))
                 .take(config.forget_after_floor_points)
                 .count()
                 >= config.forget_after_floor_points
         };
-        let floor_between = |a: &Prism, b: &Prism| self.floor_between(a, b, floor_points, config);
+        let floor_between = |a: &Prism, b: &Prism| self.floor_between(a, b, &floor, config);
         // Cells near where something was ever seen moving: their returns may be a person who
         // stopped there and walked on (the grid clears a stationary cell only when crossed twice in a
         // row, which a look-around's panning views rarely do).
@@ -284,7 +283,7 @@ impl WorldModel {
             same
         });
         self.prisms = current;
-        self.merge_fragments(floor_points, config);
+        self.merge_fragments(&floor, config);
         // Where each obstacle the look showed was seen from.
         for prism in &self.prisms {
             let shown = outlines.iter().any(|o| {
