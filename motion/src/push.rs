@@ -91,7 +91,7 @@ impl Default for PushConfig {
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
-            footprint_cell: 0.04,
+            footprint_cell: nudge_perception::ElevationConfig::default().cell_size,
             planner: RrtConnect::default(),
             budget: Budget::iterations(5_000),
             shortcut: Shortcut::default(),

@@ -107,7 +107,30 @@ impl Prism {
 
     /// Distance (m) in the floor plane from `p` to the footprint: zero inside or on it.
     pub fn distance_xy(&self, p: &Point2<f64>) -> f64 {
-        distance_to_convex(&self.footprint, p)
+        if self.contains_xy(p) {
+            return 0.0;
+        }
+        self.nearest_on_outline(p)
+            .map_or(f64::INFINITY, |q| (q - p).norm())
+    }
+
+    /// The point of the footprint's outline nearest `p` (the first such, edge by edge); `None` for an
+    /// empty footprint.
+    pub fn nearest_on_outline(&self, p: &Point2<f64>) -> Option<Point2<f64>> {
+        let f = &self.footprint;
+        let n = f.len();
+        (0..n)
+            .map(|i| {
+                let (a, b) = (f[i], f[(i + 1) % n]);
+                let ab = b - a;
+                let t = if ab.norm_squared() > 1e-18 {
+                    ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                a + ab * t
+            })
+            .min_by(|a, b| (a - p).norm().total_cmp(&(b - p).norm()))
     }
 
     /// The convex hull of both footprints: [`Self::merged_with`]'s footprint, without copying points.
@@ -242,34 +265,6 @@ fn clip_convex(subject: &[Point2<f64>], clip: &[Point2<f64>]) -> Vec<Point2<f64>
         }
     }
     out
-}
-
-/// Distance (m) from `p` to the convex CCW polygon `f`: zero inside or on it.
-fn distance_to_convex(f: &[Point2<f64>], p: &Point2<f64>) -> f64 {
-    let n = f.len();
-    if n == 0 {
-        return f64::INFINITY;
-    }
-    let inside = n >= 3
-        && (0..n).all(|i| {
-            let (a, b) = (f[i], f[(i + 1) % n]);
-            (b - a).perp(&(p - a)) >= -1e-12
-        });
-    if inside {
-        return 0.0;
-    }
-    (0..n)
-        .map(|i| {
-            let (a, b) = (f[i], f[(i + 1) % n]);
-            let ab = b - a;
-            let t = if ab.norm_squared() > 1e-18 {
-                ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (p - (a + ab * t)).norm()
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 #[cfg(test)]

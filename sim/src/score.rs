@@ -35,6 +35,14 @@ pub const MATCH_DISTANCE: f64 = 0.4;
 pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
     let world = robot.world();
     let truth = Truth::new(world);
+    // Every scenario object with its index and its true pose now.
+    let standing = || {
+        world
+            .objects()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, (spec, _))| Some((i, spec, truth.object_pose(i)?)))
+    };
     report
         .knowledge
         .explanation
@@ -43,12 +51,8 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
         .map(|(id, verdict)| {
             let prism = report.obstacle(*id);
             let covered = prism.and_then(|p| {
-                world
-                    .objects()
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(i, (spec, _))| {
-                        let pose = truth.object_pose(i)?;
+                standing()
+                    .filter_map(|(i, spec, pose)| {
                         let outline = true_outline(spec, &pose)?;
                         let area = convex_intersection_area(&p.footprint, &outline);
                         (area > 0.0).then(|| (area, i, spec.name.clone()))
@@ -58,12 +62,8 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
             let centroid = prism.map(centroid);
             let nearest = covered.or_else(|| {
                 centroid.and_then(|c| {
-                    world
-                        .objects()
-                        .iter()
-                        .enumerate()
-                        .filter_map(|(i, (spec, _))| {
-                            let pose = truth.object_pose(i)?;
+                    standing()
+                        .filter_map(|(i, spec, pose)| {
                             let d =
                                 (Point2::new(pose.translation.x, pose.translation.y) - c).norm();
                             (d <= MATCH_DISTANCE).then(|| (d, i, spec.name.clone()))

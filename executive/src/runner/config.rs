@@ -230,9 +230,15 @@ impl RunConfig {
 
     /// Defaults for a robot of `robot` size heading to `goal`.
     pub fn new(robot: RobotCylinder, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
+        let perception = PerceptionConfig::default();
         Self {
             executive: ExecutiveConfig::default(),
-            perception: PerceptionConfig::default(),
+            // The push planner reads footprints made of perception's elevation cells.
+            push: PushConfig {
+                footprint_cell: perception.elevation.cell_size,
+                ..PushConfig::default()
+            },
+            perception,
             robot,
             validity: ValidityConfig::default(),
             goal,
@@ -240,7 +246,6 @@ impl RunConfig {
             planner: RrtConnect::default(),
             budget: Budget::iterations(20_000),
             shortcut: Shortcut::default(),
-            push: PushConfig::default(),
             blocking: BlockingConfig::default(),
             push_motion: PushMotionConfig::default(),
             grid: GridSetup {

@@ -553,25 +553,11 @@ fn nearest_other(
     prisms
         .iter()
         .filter(|p| p.id != except)
-        .flat_map(|p| {
-            let f = &p.footprint;
-            (0..f.len()).map(move |i| closest_on_segment(&f[i], &f[(i + 1) % f.len()], at))
-        })
+        .filter_map(|p| p.nearest_on_outline(at))
         .map(|q| ((q - at).norm(), q))
         .filter(|(d, _)| *d <= within)
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, q)| q)
-}
-
-/// The point of the segment `a`–`b` nearest `p`.
-fn closest_on_segment(a: &Point2<f64>, b: &Point2<f64>, p: &Point2<f64>) -> Point2<f64> {
-    let ab = b - a;
-    let t = if ab.norm_squared() > 1e-18 {
-        ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    a + ab * t
 }
 
 /// How far outside the arm's sideways reach (m) a stroke's line is moved back to its edge: the error

@@ -230,7 +230,7 @@ impl WorldModel {
         let mut absorbed = Vec::new();
         let mut joins = Vec::new();
         for new in detected {
-            let new = self.parted_from_what_it_rests_against(new);
+            let new = self.parted_from_what_it_rests_against(new, config);
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
                 if self.pushed.contains(&old.id) && !settled(old) {
@@ -302,7 +302,7 @@ impl WorldModel {
     /// and every column of returns that rises above the pushed object's top (an object pushed over
     /// the floor keeps its height: what stands taller beside it is something else). Other detections
     /// are returned as they are.
-    fn parted_from_what_it_rests_against(&self, new: Prism) -> Prism {
+    fn parted_from_what_it_rests_against(&self, new: Prism, config: &RunConfig) -> Prism {
         let overlapping = |old: &&Prism| old.id == new.id || old.footprint_iou(&new) > 0.0;
         let moved = |old: &Prism| self.moved.contains(&old.id) && !self.settled.contains(&old.id);
         let Some(top) = self
@@ -336,7 +336,7 @@ impl WorldModel {
             !taller.contains(&column(p.x, p.y))
                 && unmoved.iter().all(|o| o.distance_xy(&q) > RESTING_MARGIN)
         };
-        new.with_points_where(keep, RESTING_MIN_THICKNESS)
+        new.with_points_where(keep, config.perception.prism.min_thickness)
             .unwrap_or(new)
     }
 
@@ -396,9 +396,6 @@ const RESTING_MARGIN: f64 = 0.02;
 /// Side (m) of the columns in which returns above a pushed object's top are looked for, and how far
 /// above its top they must rise: perception's 4 cm elevation cell, a centimetre of range noise more.
 pub(super) const RESTING_COLUMN: f64 = 0.05;
-
-/// Thickness (m) given to what is left of a detection whose points lie on a line: perception's own.
-const RESTING_MIN_THICKNESS: f64 = 0.02;
 
 /// Looks taken this close together (m) were taken from one place.
 pub(super) const SAME_PLACE: f64 = 0.05;
