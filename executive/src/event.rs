@@ -82,6 +82,18 @@ pub enum Event {
         /// How far the object moved (m).
         moved: f64,
     },
+    /// The clearing push stopped before its end: the object, re-located between strokes, turned or
+    /// slid off the push line so far that the rest of its sweep would run into something.
+    OffLine {
+        /// How far the object moved along the push (m).
+        moved: f64,
+        /// How far its centre lies off the push line (m).
+        lateral: f64,
+        /// How far it turned (deg).
+        yaw_deg: f64,
+        /// What the rest of the sweep would run into; `None` for the room's walls.
+        blocked_by: Option<ObjectId>,
+    },
     /// The clearing push stopped at the force limit.
     Jammed {
         /// Peak force (N).
@@ -120,6 +132,7 @@ impl Event {
             Event::NoView { .. } => "NoView",
             Event::PushTestDone(_) => "PushTestDone",
             Event::Cleared { .. } => "Cleared",
+            Event::OffLine { .. } => "OffLine",
             Event::Jammed { .. } => "Jammed",
             Event::Stopped => "Stopped",
             Event::Cancel => "Cancel",

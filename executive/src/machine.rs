@@ -123,6 +123,9 @@ pub enum Edge {
     AmbiguousTwice,
     /// ClearPath → LookAround: the object moved as planned.
     Cleared,
+    /// ClearPath → LookAround: the object turned or slid off the push line so far that the rest of
+    /// its sweep would run into something; look, and plan the rest of the way from where it is.
+    OffLine,
     /// ClearPath → LookAround: the object jammed at the force limit.
     Jammed,
     /// Stopping → Aborted.
@@ -147,7 +150,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 44] = [
+    pub const ALL: [Edge; 45] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -182,6 +185,7 @@ impl Edge {
         Edge::NothingThere,
         Edge::AmbiguousTwice,
         Edge::Cleared,
+        Edge::OffLine,
         Edge::Jammed,
         Edge::Stopped,
         Edge::StopFailed,
@@ -424,6 +428,17 @@ pub fn transition(
                 k,
                 vec![Command::LookAround],
                 Edge::Cleared,
+            )
+        }
+        (State::ClearPath { target, .. }, Event::OffLine { .. }) => {
+            // Counted as a clear: an object that goes off line push after push is given up like one
+            // cleared too often.
+            *k.clears.entry(*target).or_default() += 1;
+            step(
+                State::LookAround,
+                k,
+                vec![Command::LookAround],
+                Edge::OffLine,
             )
         }
         (State::ClearPath { target, .. }, Event::Jammed { .. }) => {

@@ -452,6 +452,14 @@ cases! {
         assert_eq!(s.knowledge.clears.get(&CHAIR), Some(&1));
         s.edge
     }
+    a_clearing_push_gone_off_line_looks_again_and_counts_as_a_clear => {
+        // Invariant: an object that turned or slid off its push line ends the push early; the robot re-perceives and plans the rest from where it is, and the push counts towards the object's clears (so one that goes off line again and again is given up).
+        let s = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::OffLine { moved: 0.9, lateral: 0.12, yaw_deg: 14.0, blocked_by: Some(TABLE) });
+        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        assert_eq!(s.knowledge.clears.get(&CHAIR), Some(&1));
+        assert!(s.knowledge.explanation.jams.is_empty());
+        s.edge
+    }
     a_jammed_clearing_push_looks_again_and_counts_the_jam => {
         // Invariant: a jam stops the push (the adapter already stopped at the limit); the robot re-perceives and replans.
         let s = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::Jammed { peak_force: 20.1, moved: 0.3 });

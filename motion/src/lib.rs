@@ -4,7 +4,8 @@
 //! ([`validity`], with the obstacles of [`obstacle`] in a [`broad_phase`] grid), the problem
 //! ([`problem`]) and the planners ([`planner`]), so that a new planner is one file and a benchmark can
 //! run every planner on one problem. On top of them: which obstacles block the way ([`blocking`]) and
-//! where and how to push one ([`push`]), a cheap proof that no path exists ([`reach`]), where to walk
+//! where and how to push one ([`push`]), two pushes that together open the way ([`sequence`]), whether a
+//! push's sweep keeps clear ([`sweep`]), a cheap proof that no path exists ([`reach`]), where to walk
 //! and look to see what a decision needs ([`view`]), and whether floor not yet seen could open a way
 //! ([`way`]).
 //!
@@ -21,7 +22,9 @@ pub mod problem;
 pub mod push;
 pub mod reach;
 pub mod seen_floor;
+pub mod sequence;
 pub mod space;
+pub mod sweep;
 pub mod validity;
 pub mod view;
 pub mod way;
@@ -33,10 +36,17 @@ pub use obstacle::{Obstacle, ObstacleError};
 pub use path::{Path, PathError};
 pub use planner::{Budget, NoPath, Planner, rrt::Rrt, rrt_connect::RrtConnect, shortcut::Shortcut};
 pub use problem::{GoalRegion, Problem, ProblemError};
-pub use push::{PushConfig, PushError, PushPlan, plan_push, plan_push_over};
+pub use push::{
+    PushConfig, PushError, PushPlan, SweptPush, plan_of_swept, plan_push, plan_push_over,
+    swept_pushes,
+};
 pub use reach::certainly_unreachable;
 pub use seen_floor::{AllSeen, FloorCheck, SeenFloor, shadow_length};
+pub use sequence::{
+    PairMiss, PairRecord, Sequence, SequenceConfig, plan_sequence, single_removal_opens,
+};
 pub use space::{Bounds, SpaceError};
+pub use sweep::{SweepBlock, sweep_blocked, sweep_blocked_among, sweep_keeps_clear};
 pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};
 pub use view::{
     Lattice, LatticeCell, LookCoverage, LookPrediction, NoView, SightMap, Targets, ViewConfig,

@@ -23,12 +23,13 @@ use crate::problem::{GoalRegion, Problem};
 use crate::reach::certainly_unreachable;
 use crate::seen_floor::FloorCheck;
 use crate::space::pose;
+use crate::sweep::sweep_blocked_among;
 use crate::validity::{StateValidity, Validity, ValidityError};
 
 /// Where the hand can reach and what to try.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PushConfig {
-    /// Push distances to try, shortest first (m).
+    /// Push distances to try, shortest first (m); see [`PushConfig::distances_up_to`].
     pub distances: Vec<f64>,
     /// Hand reach ahead of the body axis in `base_link` x (m).
     pub reach_x: (f64, f64),
@@ -76,7 +77,7 @@ pub struct PushConfig {
 impl Default for PushConfig {
     fn default() -> Self {
         Self {
-            distances: (3..=12).map(|k| f64::from(k) * 0.1).collect(),
+            distances: PushConfig::distances_up_to(PushConfig::SR4000_RANGE),
             reach_x: (0.2, 0.8),
             reach_y: (-0.4, 0.4),
             reach_z: (0.2, 1.2),
@@ -96,6 +97,28 @@ impl Default for PushConfig {
             budget: Budget::iterations(5_000),
             shortcut: Shortcut::default(),
         }
+    }
+}
+
+/// The longest of the short pushes (m): one to a few strokes, tried every 0.1 m (see
+/// [`PushConfig::distances_up_to`]); a push test is planned among these.
+pub const SHORT_PUSHES: f64 = 1.2;
+
+impl PushConfig {
+    /// The paper's range camera's reach (m), the longest push [`PushConfig::default`] tries.
+    pub const SR4000_RANGE: f64 = 5.0;
+
+    /// Push distances to try, shortest first, up to `longest` (m): every 0.1 m from 0.3 m to 1.2 m
+    /// (one to a few strokes, where a few centimetres decide whether the way opens beside the
+    /// object), then every 0.2 m (long pushes through a doorway or along a corridor, where the
+    /// object's end position is known to a stroke's error anyway). A caller sets `longest` from its
+    /// camera's range: floor farther than that cannot have been seen from where the push is planned.
+    pub fn distances_up_to(longest: f64) -> Vec<f64> {
+        let short = (3..=12).map(|k| f64::from(k) * 0.1);
+        let long = (1..)
+            .map(|k| SHORT_PUSHES + f64::from(k) * 0.2)
+            .take_while(move |d| *d <= longest + 1e-9);
+        short.chain(long).filter(|d| *d <= longest + 1e-9).collect()
     }
 }
 
@@ -539,37 +562,17 @@ fn push_of(
     scene: &PushScene<'_>,
     rng: &mut ChaCha8Rng,
 ) -> Result<Result<Candidate, Miss>, PushError> {
+    let (offset, end) = match sweep_of(stance, distance, scene)? {
+        Ok(swept) => swept,
+        Err(miss) => return Ok(Err(miss)),
+    };
     let PushScene {
         object,
-        others,
         validity,
-        without,
         goal,
         config,
-        floor,
+        ..
     } = *scene;
-    let offset = stance.direction.into_inner() * distance;
-    let swept = object.swept(&offset).map_err(ValidityError::from)?;
-    let into_other = others.iter().any(|o| {
-        !sweep_keeps_clear(
-            o.distance_to_obstacle(object),
-            o.distance_to_obstacle(&swept),
-            config.sweep_clearance,
-        )
-    });
-    let walls = validity.walls();
-    let through_wall = swept.footprint().iter().any(|p| !walls.contains(p));
-    // The arm pushes as far as it reaches before the body has to walk after the object: the body
-    // follows only the rest (the clearing push walks after it no further than that).
-    let d = stance.direction.into_inner();
-    let arm = config.reach_x.1 - (stance.contact - stance.stand).dot(&d);
-    let end = stance.stand + d * (distance - arm).max(0.0);
-    if into_other || through_wall || !without.motion_free(&stance.stand, &end) {
-        return Ok(Err(Miss::Blocked));
-    }
-    if floor.is_some_and(|f| !sweep_on_seen_floor(object, &swept, &f)) {
-        return Ok(Err(Miss::Unseen));
-    }
     let after = validity.with_moved(object.id(), &offset)?;
     let path_after = plan(&after, &end, &goal.centre(), goal.tolerance(), config, rng);
     Ok(Ok(Candidate {
@@ -578,6 +581,167 @@ fn push_of(
         displaced: object.footprint().iter().map(|p| p + offset).collect(),
         path_after,
     }))
+}
+
+/// A push's offset of the object (m, map frame) and where it leaves the robot.
+type Swept = (Vector2<f64>, Point2<f64>);
+
+/// The offset of the push of `distance` from `stance` and where it leaves the robot, when its sweep
+/// keeps clear of everything else, the body can follow it and (with a floor check) it stays on seen
+/// floor; else why not.
+fn sweep_of(
+    stance: &Stance,
+    distance: f64,
+    scene: &PushScene<'_>,
+) -> Result<Result<Swept, Miss>, PushError> {
+    let PushScene {
+        object,
+        others,
+        validity,
+        without,
+        config,
+        floor,
+        ..
+    } = *scene;
+    let offset = stance.direction.into_inner() * distance;
+    let swept = object.swept(&offset).map_err(ValidityError::from)?;
+    let blocked = sweep_blocked_among(object, &offset, others, validity, config.sweep_clearance)
+        .map_err(ValidityError::from)?
+        .is_some();
+    let end = follow_end(stance, distance, config);
+    if blocked || !without.motion_free(&stance.stand, &end) {
+        return Ok(Err(Miss::Blocked));
+    }
+    if floor.is_some_and(|f| !sweep_on_seen_floor(object, &swept, &f)) {
+        return Ok(Err(Miss::Unseen));
+    }
+    Ok(Ok((offset, end)))
+}
+
+/// Where a push of `distance` from `stance` leaves the robot: the arm pushes as far as it reaches
+/// before the body has to walk after the object, and the body follows only the rest (the clearing
+/// push walks after it no further than that).
+fn follow_end(stance: &Stance, distance: f64, config: &PushConfig) -> Point2<f64> {
+    let d = stance.direction.into_inner();
+    let arm = config.reach_x.1 - (stance.contact - stance.stand).dot(&d);
+    stance.stand + d * (distance - arm).max(0.0)
+}
+
+/// A push whose sweep is valid, found without asking whether it opens the way: what a push
+/// sequence's first push is chosen from.
+#[derive(Clone, Debug)]
+pub struct SweptPush {
+    /// The object pushed.
+    pub object: ObjectId,
+    stance: Stance,
+    /// How far (m).
+    pub distance: f64,
+    /// Where the push leaves the robot.
+    pub end: Point2<f64>,
+}
+
+impl SweptPush {
+    /// The object's displacement (m, map frame).
+    pub fn offset(&self) -> Vector2<f64> {
+        self.stance.direction.into_inner() * self.distance
+    }
+
+    /// Where the robot stands to push.
+    pub fn stand(&self) -> Point2<f64> {
+        self.stance.stand
+    }
+}
+
+/// Every push of `prism` at `distances` (the face, stand pose and floor rules of [`plan_push_over`])
+/// whose sweep keeps clear of everything else and which the body can follow, whether or not it opens
+/// the way, stand poses nearest `robot` first. [`PushError`] when the object has no pushable face
+/// or no free stand pose.
+pub fn swept_pushes(
+    prism: &Prism,
+    validity: &Validity,
+    robot: &Point2<f64>,
+    goal: &GoalRegion,
+    config: &PushConfig,
+    floor: Option<FloorCheck<'_>>,
+    distances: &[f64],
+) -> Result<Vec<SweptPush>, PushError> {
+    let id = prism.id;
+    let object = validity
+        .obstacle(id)
+        .ok_or(PushError::UnknownObject(id))?
+        .clone();
+    let faces = pushable_faces(&object, prism, config);
+    if faces.is_empty() {
+        return Err(PushError::NoPushableFace(id));
+    }
+    let mut stances: Vec<Stance> = faces
+        .iter()
+        .filter_map(|f| stance_for(f, validity, config, floor.as_ref()).ok())
+        .collect();
+    if stances.is_empty() {
+        return Err(PushError::NoStandPose(id));
+    }
+    stances.sort_by(|a, b| {
+        (a.stand - robot)
+            .norm()
+            .total_cmp(&(b.stand - robot).norm())
+    });
+    let others: Vec<&Obstacle> = validity
+        .obstacles()
+        .iter()
+        .filter(|o| o.id() != id && o.heights_overlap(&object))
+        .collect();
+    let scene = PushScene {
+        object: &object,
+        others: &others,
+        validity,
+        without: &validity.without(&[id]),
+        goal,
+        config,
+        floor,
+    };
+    let mut out = Vec::new();
+    for stance in &stances {
+        for &distance in distances {
+            // Sweeps only grow with distance: once one is refused, longer ones are too.
+            match sweep_of(stance, distance, &scene)? {
+                Ok((_, end)) => out.push(SweptPush {
+                    object: id,
+                    stance: stance.clone(),
+                    distance,
+                    end,
+                }),
+                Err(_) => break,
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The plan of `push`, its approach planned from `robot`; `None` when no approach is found.
+pub fn plan_of_swept(
+    push: &SweptPush,
+    prism: &Prism,
+    validity: &Validity,
+    robot: &Point2<f64>,
+    config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Option<PushPlan> {
+    let s = &push.stance;
+    let approach = plan(validity, robot, &s.stand, 0.0, config, rng)?;
+    let offset = push.offset();
+    Some(PushPlan {
+        object: push.object,
+        stand_pose: pose(s.stand.x, s.stand.y, s.direction.y.atan2(s.direction.x)),
+        hand_height: s.hand_height,
+        direction: s.direction,
+        distance: push.distance,
+        contact_point: Point3::new(s.contact.x, s.contact.y, s.hand_height),
+        displaced_footprint: prism.footprint.iter().map(|p| p + offset).collect(),
+        opens_path: false,
+        path_after: None,
+        approach,
+    })
 }
 
 /// Spacing of the sample points of a sweep checked against the floor seen (m): the obstacle-type
@@ -602,14 +766,6 @@ fn sweep_on_seen_floor(object: &Obstacle, swept: &Obstacle, floor: &FloorCheck<'
                 || object.distance_to_point(&p) <= floor.own_shadow
         })
     })
-}
-
-/// Whether a sweep whose footprint lies `swept_gap` (m) from an obstacle, starting `start_gap` from it,
-/// keeps clear of it: it never touches it, and keeps `clearance`, or, from an obstacle the object
-/// already stands closer to, the gap it starts with (the sweep holds the start footprint, so that is
-/// the most it can keep: the object may move away, not closer).
-fn sweep_keeps_clear(start_gap: f64, swept_gap: f64, clearance: f64) -> bool {
-    swept_gap > 0.0 && swept_gap >= clearance.min(start_gap - 1e-6)
 }
 
 fn plan(
@@ -666,17 +822,6 @@ mod tests {
         };
         let obstacle = Obstacle::new(ObjectId(1), &footprint, 0.0, 0.85).expect("square");
         (prism, obstacle)
-    }
-
-    #[test]
-    fn a_sweep_keeps_the_clearance_or_the_gap_it_starts_with() {
-        // Invariant: a push may not graze another obstacle (closer than the clearance) unless the object already starts closer, in which case it may only keep its starting gap (move away or alongside), never come closer or touch.
-        assert!(sweep_keeps_clear(0.3, 0.2, 0.05));
-        assert!(!sweep_keeps_clear(0.3, 0.01, 0.05));
-        assert!(!sweep_keeps_clear(0.3, 0.0, 0.05));
-        assert!(sweep_keeps_clear(0.02, 0.02, 0.05));
-        assert!(!sweep_keeps_clear(0.02, 0.01, 0.05));
-        assert!(!sweep_keeps_clear(0.0, 0.0, 0.05));
     }
 
     #[test]

@@ -3,7 +3,8 @@
 use nalgebra::Point2;
 use nudge_motion::planner::rrt_connect::RrtConnect;
 use nudge_motion::{
-    BlockingConfig, Budget, LookCoverage, PushConfig, RobotCylinder, Shortcut, ValidityConfig,
+    BlockingConfig, Budget, LookCoverage, PushConfig, RobotCylinder, SequenceConfig, Shortcut,
+    ValidityConfig,
 };
 use nudge_perception::PerceptionConfig;
 use nudge_perception::grid::{ColumnReduction, DEFAULT_RESOLUTION, GridConfig};
@@ -186,6 +187,8 @@ pub struct RunConfig {
     pub push: PushConfig,
     /// The `blocking` policy's query.
     pub blocking: BlockingConfig,
+    /// The search for two pushes that together open the way, when no single push does.
+    pub sequence: SequenceConfig,
     /// How the hand pushes.
     pub push_motion: PushMotionConfig,
     /// The obstacle-type grid.
@@ -231,11 +234,14 @@ impl RunConfig {
     /// Defaults for a robot of `robot` size heading to `goal`.
     pub fn new(robot: RobotCylinder, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
         let perception = PerceptionConfig::default();
+        let view = ViewSetup::default();
         Self {
             executive: ExecutiveConfig::default(),
-            // The push planner reads footprints made of perception's elevation cells.
+            // The push planner reads footprints made of perception's elevation cells, and pushes as
+            // far as the camera sees.
             push: PushConfig {
                 footprint_cell: perception.elevation.cell_size,
+                distances: PushConfig::distances_up_to(view.camera.max_range),
                 ..PushConfig::default()
             },
             perception,
@@ -247,6 +253,7 @@ impl RunConfig {
             budget: Budget::iterations(20_000),
             shortcut: Shortcut::default(),
             blocking: BlockingConfig::default(),
+            sequence: SequenceConfig::default(),
             push_motion: PushMotionConfig::default(),
             grid: GridSetup {
                 reduction: ColumnReduction {
@@ -255,7 +262,7 @@ impl RunConfig {
                 },
                 ..GridSetup::default()
             },
-            view: ViewSetup::default(),
+            view,
             clearance: 0.08,
             forget_after_floor_points: 30,
             structure_margin: 0.15,

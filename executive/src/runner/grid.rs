@@ -447,8 +447,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// Moves `id`'s obstacle by a measured displacement; when a push test already judged it, the grid
     /// frees its old footprint and marks the new one.
     pub(crate) fn displace(&mut self, id: ObjectId, offset: Vector2<f64>) {
+        self.move_object(
+            id,
+            &nalgebra::Isometry3::translation(offset.x, offset.y, 0.0),
+        );
+    }
+
+    /// Moves obstacle `id` by the rigid `motion` (map frame) in the world model and the grid.
+    pub(crate) fn move_object(&mut self, id: ObjectId, motion: &nalgebra::Isometry3<f64>) {
         let before = self.world.prisms.iter().find(|p| p.id == id).cloned();
-        self.world.displace(id, offset);
+        self.world.move_rigidly(id, motion);
         let after = self.world.prisms.iter().find(|p| p.id == id).cloned();
         let (Some(before), Some(after), Some(grid)) = (before, after, self.world.grid.as_mut())
         else {

@@ -5,6 +5,7 @@
 //! and polled every [`RunConfig::tick`] of robot time, so the runner can watch sensors, honour a cancel
 //! request and the robot-time budget while anything runs. Nothing here reads the wall clock.
 
+mod clear;
 mod config;
 mod floor_index;
 mod fragments;
@@ -127,6 +128,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             timeline,
             obstacles: self.world.prisms.clone(),
             joined: self.world.joined.clone(),
+            sequences: self.world.sequences.clone(),
             grid: self.world.grid.clone(),
         }
     }
@@ -192,9 +194,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Command::RankCandidates { policy, exclude } => Some(self.rank(*policy, exclude)),
             Command::PlanPush {
                 target,
+                purpose,
                 allow_unseen,
-                ..
-            } => Some(self.plan_push(*target, *allow_unseen)),
+            } => Some(self.plan_push(*target, *purpose, *allow_unseen)),
             Command::PlanView(question) => Some(self.plan_view(question)),
             Command::WalkToView(view) => Some(self.walk_to_view(view)),
             Command::WalkToPushPose(intent) => Some(self.walk_to_push_pose(intent)),

@@ -1,43 +1,53 @@
 //! Pushing: planning a push, the push test (force, hand travel, colour ICP), and clearing the way.
 
 use nalgebra::{Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2, Vector3};
+use nudge_motion::push::SHORT_PUSHES;
 use nudge_motion::{
-    FloorCheck, GoalRegion, Obstacle, PushError, SeenFloor, StateValidity, plan_push_over,
+    FloorCheck, GoalRegion, Obstacle, PairRecord, PushConfig, PushError, SeenFloor, Sequence,
+    StateValidity, Validity, plan_push_over, plan_sequence, single_removal_opens,
 };
+use nudge_perception::grid::Verdict as GridVerdict;
 use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colour_icp};
+use rand_chacha::ChaCha8Rng;
 
+use super::config::RunConfig;
 use super::unseen::Floor;
+use super::world::WorldModel;
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::{IcpReading, PushEvidence, PushIntent};
-use crate::record::Observer;
-use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, WalkOutcome, Wrench};
-
-/// Clear strokes start this far beyond the body's radius (m): room for the hand and the walk's margin.
-const STROKE_STANDOFF: f64 = 0.12;
-/// Approach gap before a face whose position the hand measured (m): it is known within a centimetre.
-const MEASURED_GAP: f64 = 0.03;
-/// Shortest clearing stroke worth making (m): the hand's approach gap over again, so it presses.
-const MIN_STROKE: f64 = 0.05;
+use crate::record::{LogLevel, Observer};
+use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
+use crate::state::Purpose;
 
 /// What one guarded stroke measured.
-struct Stroke {
-    outcome: HandOutcome,
-    peak_force: f64,
-    contact: bool,
-    travel_after_contact: f64,
-    end_x: f64,
-    trace: Vec<(f64, f64)>,
+pub(super) struct Stroke {
+    pub(super) outcome: HandOutcome,
+    pub(super) peak_force: f64,
+    pub(super) contact: bool,
+    pub(super) travel_after_contact: f64,
+    pub(super) end_x: f64,
+    pub(super) trace: Vec<(f64, f64)>,
 }
 
 impl<R: Robot, O: Observer> Runner<R, O> {
-    fn prism(&self, id: ObjectId) -> Option<&Prism> {
+    pub(super) fn prism(&self, id: ObjectId) -> Option<&Prism> {
         self.world.prisms.iter().find(|p| p.id == id)
     }
 
     /// Plans a push of `target` from where the robot stands: standing on seen floor and sweeping the
     /// object over seen floor or its own shadow, unless `allow_unseen` (no viewpoint could show it).
-    pub(crate) fn plan_push(&mut self, target: ObjectId, allow_unseen: bool) -> Event {
+    ///
+    /// A push test is planned among the short pushes only (up to [`SHORT_PUSHES`]), and without
+    /// sequences: before the object is known to move, the robot commits to no long walk to a far
+    /// face, and the test's stroke is the same whatever push follows it. Once the object is known
+    /// movable, its clearing push is planned over the whole range, or as the first of two pushes.
+    pub(crate) fn plan_push(
+        &mut self,
+        target: ObjectId,
+        purpose: Purpose,
+        allow_unseen: bool,
+    ) -> Event {
         let here = match self.robot.base_pose() {
             Ok(p) => Point2::from(p.value.translation.vector),
             Err(e) => return Interrupt::Robot(e).into(),
@@ -62,8 +72,25 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // Full clearance first; where no stand pose is reachable with it (perception's hulls a few
         // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
         // of contact anyway.
+        let testing = purpose == Purpose::Test;
+        let push_config = if testing {
+            PushConfig {
+                distances: self
+                    .config
+                    .push
+                    .distances
+                    .iter()
+                    .copied()
+                    .filter(|d| *d <= SHORT_PUSHES + 1e-9)
+                    .collect(),
+                ..self.config.push.clone()
+            }
+        } else {
+            self.config.push.clone()
+        };
         let mut planned = Err(PushError::NoStandPose(target));
         let mut unseen = false;
+        let mut searched = None;
         for validity in self.world.validities(&here, &self.config) {
             let validity = match validity {
                 Ok(v) if v.is_free(&here) => v,
@@ -91,16 +118,41 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 &validity,
                 &here,
                 &goal,
-                &self.config.push,
+                &push_config,
                 check,
                 &mut self.rng,
             );
             // Floor not yet seen at any clearance is worth a look, whatever the smaller ones say.
             unseen |= matches!(attempt, Err(PushError::UnseenFloor(_)));
+            // A push that does not open the way may still be the first of two that do.
+            let attempt = match attempt {
+                Ok(single) if !single.opens_path && !testing => {
+                    let found = search_sequence(
+                        &self.world,
+                        &self.config,
+                        &validity,
+                        &here,
+                        &goal,
+                        check,
+                        single.object,
+                        &mut self.rng,
+                    );
+                    let plan = match &found {
+                        Ok(sequence) => sequence.first.clone(),
+                        Err(_) => single,
+                    };
+                    searched = Some(found);
+                    Ok(plan)
+                }
+                other => other,
+            };
             planned = attempt;
             if planned.is_ok() {
                 break;
             }
+        }
+        if let Some(found) = searched {
+            self.note_sequence(found);
         }
         match planned {
             Ok(plan) => {
@@ -139,8 +191,33 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
+    /// Notes what a sequence search found, and keeps the pairs it considered when it found none.
+    fn note_sequence(&mut self, found: Result<Sequence, Vec<PairRecord>>) {
+        match found {
+            Ok(sequence) => {
+                let stamp = self.robot.now();
+                self.observer.note(
+                    stamp,
+                    LogLevel::Info,
+                    &format!(
+                        "no single push opens the way: pushing {} {:.1} m, then {} {:.1} m, does",
+                        sequence.first.object,
+                        sequence.first.distance,
+                        sequence.second.object,
+                        sequence.second.distance
+                    ),
+                );
+                self.world.sequences.clear();
+            }
+            Err(records) => self.world.sequences = records,
+        }
+    }
+
     /// The contact point in `base_link` (x ahead, y left), from the plan or, failing that, the prism.
-    fn contact_in_base(&mut self, intent: &PushIntent) -> Result<Point2<f64>, Interrupt> {
+    pub(super) fn contact_in_base(
+        &mut self,
+        intent: &PushIntent,
+    ) -> Result<Point2<f64>, Interrupt> {
         let base = self.robot.base_pose()?.value;
         let contact = self
             .world
@@ -228,121 +305,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         })
     }
 
-    /// Pushes a movable object along the plan in guarded strokes, walking after it between strokes.
-    pub(crate) fn clear_path(&mut self, intent: &PushIntent) -> Event {
-        match self.run_clear_path(intent) {
-            Ok(event) => event,
-            Err(i) => i.into(),
-        }
-    }
-
-    fn run_clear_path(&mut self, intent: &PushIntent) -> Result<Event, Interrupt> {
-        const MAX_STROKES: usize = 12;
-        let motion = self.config.push_motion.clone();
-        let direction = intent.direction.into_inner();
-        // The face on the push line, in the map: where the push test's hand left it, else the plan's.
-        // The test's touch holds for this push only, made from the test's stand pose: a later clear of
-        // the same object starts from another pose, most likely at another face.
-        let (mut face_map, mut measured) = match self.world.touched.take() {
-            Some((id, at)) if id == intent.target => (at, true),
-            _ => {
-                let base = self.robot.base_pose()?.value;
-                (base * self.contact_in_base(intent)?, false)
-            }
-        };
-        // Strokes start this close to the body axis: as long as the arm can push in one go.
-        let stroke_start = (self.config.robot.radius + STROKE_STANDOFF).max(motion.near);
-        let mut moved = 0.0;
-        let mut peak: f64 = 0.0;
-        for _ in 0..MAX_STROKES {
-            let remaining = intent.distance - moved;
-            if remaining <= 0.02 {
-                break;
-            }
-            let mut base = self.robot.base_pose()?.value;
-            // Walk after the object so the next stroke is a long one, but no further than the rest
-            // of the push needs beyond the arm's reach (push planning checked only that much).
-            let face_x = base.inverse_transform_point(&face_map).x;
-            let gap = if measured {
-                MEASURED_GAP
-            } else {
-                motion.approach_gap
-            };
-            // At least far enough that a stroke from before the face fits in the arm's reach.
-            let at_least = face_x - gap + MIN_STROKE - motion.reach;
-            let ahead = (face_x + remaining - motion.reach)
-                .max(at_least)
-                .min(face_x - stroke_start);
-            if ahead > 0.02 {
-                self.step_forward(direction, ahead, intent.target)?;
-                base = self.robot.base_pose()?.value;
-            }
-            let face = base.inverse_transform_point(&face_map);
-            let from_x = (face.x - gap).max(motion.near);
-            let to_x = (face.x + remaining).min(motion.reach);
-            if to_x - from_x < MIN_STROKE {
-                // The object is beyond the arm's reach and the body could not walk after it (the
-                // walk stopped against something): this push ends here; a look shows where it is.
-                break;
-            }
-            let limit = self.config.executive.clear_force_limit;
-            let stroke = self.stroke(from_x, to_x, face.y, intent.hand_height, limit)?;
-            peak = peak.max(stroke.peak_force);
-            moved += stroke.travel_after_contact;
-            self.retract()?;
-            if let HandOutcome::ForceLimit { .. } = stroke.outcome {
-                return Ok(Event::Jammed {
-                    peak_force: peak,
-                    moved,
-                });
-            }
-            if stroke.contact {
-                face_map = base * Point2::new(stroke.end_x, face.y);
-                measured = true;
-            } else {
-                // The object is beyond the stroke: step up to it and search again.
-                face_map += direction * (to_x - face.x).max(0.05);
-                measured = false;
-            }
-        }
-        self.displace(intent.target, direction * moved);
-        let stamp = self.robot.now();
-        self.observer.push(stamp, intent, Some(-direction * peak));
-        Ok(Event::Cleared { moved })
-    }
-
-    /// Walks `distance` along `direction` after the pushed object. A walk refused at once (the body
-    /// already within the base's safety margin of something beside it, the push a few degrees off
-    /// parallel to a table's edge) slides instead: along `direction` less its part towards the
-    /// nearest other obstacle the world model knows there.
-    fn step_forward(
-        &mut self,
-        direction: Vector2<f64>,
-        distance: f64,
-        pushed: ObjectId,
-    ) -> Result<(), Interrupt> {
-        let here = self.robot.base_pose()?.value;
-        let from = Point2::from(here.translation.vector);
-        self.robot.start_walk(&[from + direction * distance])?;
-        let outcome = self.wait(|r| r.walk_status())?;
-        let now = Point2::from(self.robot.base_pose()?.value.translation.vector);
-        if !matches!(outcome, WalkOutcome::Blocked { .. }) || (now - from).norm() > SLIDE_AFTER {
-            return Ok(());
-        }
-        let reach = self.config.robot.radius + SLIDE_NEAR;
-        let Some(to) = nearest_other(&self.world.prisms, &from, reach, pushed)
-            .and_then(|nearest| slide_target(&from, &direction, distance, &nearest, reach))
-        else {
-            return Ok(());
-        };
-        self.robot.start_walk(&[to])?;
-        self.wait(|r| r.walk_status())?;
-        // Face the push again: the strokes run along the body's axis.
-        self.turn_to(direction.y.atan2(direction.x))?;
-        Ok(())
-    }
-
-    fn retract(&mut self) -> Result<(), Interrupt> {
+    pub(super) fn retract(&mut self) -> Result<(), Interrupt> {
         self.robot.start_retract()?;
         self.wait(|r| r.hand_status())?;
         Ok(())
@@ -350,7 +313,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// One guarded stroke along `base_link` x at lateral offset `y` and height `z` that stops at
     /// `force_limit`, watching the wrist.
-    fn stroke(
+    pub(super) fn stroke(
         &mut self,
         from_x: f64,
         to_x: f64,
@@ -416,7 +379,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Looks at `prism` (moved by `shift`) and returns its points in the map frame.
-    fn object_points(
+    pub(super) fn object_points(
         &mut self,
         prism: &Prism,
         shift: Vector2<f64>,
@@ -482,7 +445,20 @@ fn icp_reading(
         Translation3::new(shift.x, shift.y, 0.0),
         UnitQuaternion::identity(),
     );
-    let result = colour_icp(before, after, &initial, &IcpConfig::default()).ok()?;
+    let (reading, transform) = icp_pose(before, after, &initial)?;
+    let centroid: Point3<f64> = before.centroid()?;
+    let moved: Vector3<f64> = transform * centroid - centroid;
+    Some((reading, moved.xy()))
+}
+
+/// Colour ICP from the points before to the points after, starting from `initial`: the reading (its
+/// displacement that of the points' centroid) and the rigid motion found (map frame).
+pub(super) fn icp_pose(
+    before: &ColourCloud,
+    after: &ColourCloud,
+    initial: &Isometry3<f64>,
+) -> Option<(IcpReading, Isometry3<f64>)> {
+    let result = colour_icp(before, after, initial, &IcpConfig::default()).ok()?;
     let centroid: Point3<f64> = before.centroid()?;
     let moved: Vector3<f64> = result.transform * centroid - centroid;
     let reading = IcpReading {
@@ -492,7 +468,7 @@ fn icp_reading(
         fitness: result.fitness,
         rmse: result.rmse,
     };
-    Some((reading, moved.xy()))
+    Some((reading, result.transform))
 }
 
 /// The nearest point (`base_link` x) of `cloud` (map frame) on the hand's line at lateral offset `y`
@@ -514,59 +490,13 @@ fn face_on_line(
         .min_by(f64::total_cmp)
 }
 
-/// A walk after the object that got no further than this (m) was refused at once.
-const SLIDE_AFTER: f64 = 0.01;
-
-/// Obstacles whose footprint lies within this (m) of the body's edge are what a refused walk is
-/// slid along: the base's safety margin and perception's few centimetres of footprint error.
-const SLIDE_NEAR: f64 = 0.1;
-
-/// Where a walk of `distance` from `from` along `direction` slides to past `nearest`, the nearest
-/// point of another obstacle: along it, and away from it until the body's axis is `reach` (m) from it,
-/// the base moving only away from what it is within its safety margin of. `None` when the walk does
-/// not head into that obstacle or runs straight at it.
-fn slide_target(
-    from: &Point2<f64>,
-    direction: &Vector2<f64>,
-    distance: f64,
-    nearest: &Point2<f64>,
-    reach: f64,
-) -> Option<Point2<f64>> {
-    let gap = (nearest - from).norm();
-    if gap < 1e-9 {
-        return None;
-    }
-    let towards = (nearest - from) / gap;
-    let into = direction.dot(&towards);
-    let along = direction - towards * into;
-    (into > 0.0 && along.norm() >= 1e-3)
-        .then(|| from + along.normalize() * distance - towards * (reach - gap).max(0.0))
-}
-
-/// The point nearest `at` on the footprint of any obstacle but `except` within `within` (m).
-fn nearest_other(
-    prisms: &[Prism],
-    at: &Point2<f64>,
-    within: f64,
-    except: ObjectId,
-) -> Option<Point2<f64>> {
-    prisms
-        .iter()
-        .filter(|p| p.id != except)
-        .filter_map(|p| p.nearest_on_outline(at))
-        .map(|q| ((q - at).norm(), q))
-        .filter(|(d, _)| *d <= within)
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, q)| q)
-}
-
 /// How far outside the arm's sideways reach (m) a stroke's line is moved back to its edge: the error
 /// of a walk to a stand pose, not a plan that asked for more than the arm can do.
 pub(super) const LATERAL_SLACK: f64 = 0.02;
 
 /// `y` moved onto the nearer edge of `reach` when it lies at most [`LATERAL_SLACK`] outside it;
 /// otherwise unchanged (the arm then refuses a line the plan never meant).
-fn clamp_lateral(y: f64, (lo, hi): (f64, f64)) -> f64 {
+pub(super) fn clamp_lateral(y: f64, (lo, hi): (f64, f64)) -> f64 {
     if y < lo && y >= lo - LATERAL_SLACK {
         lo
     } else if y > hi && y <= hi + LATERAL_SLACK {
@@ -574,6 +504,56 @@ fn clamp_lateral(y: f64, (lo, hi): (f64, f64)) -> f64 {
     } else {
         y
     }
+}
+
+/// Two pushes, `first` pushed first, that together open the way (see [`plan_sequence`]); the pairs
+/// considered when there are none. The other candidates are the obstacles the ranking would push (not
+/// structure, not found static), nearest first. Nothing is searched (no pairs) while the removal of
+/// some one candidate alone may open the way: a single push may do, and the loop tries those first.
+#[allow(clippy::too_many_arguments)]
+fn search_sequence(
+    world: &WorldModel,
+    config: &RunConfig,
+    validity: &Validity,
+    here: &Point2<f64>,
+    goal: &GoalRegion,
+    floor: Option<FloorCheck<'_>>,
+    first: ObjectId,
+    rng: &mut ChaCha8Rng,
+) -> Result<Sequence, Vec<PairRecord>> {
+    let is_static = |id: ObjectId| {
+        world
+            .grid
+            .as_ref()
+            .and_then(|g| g.verdict(id))
+            .is_some_and(|(v, _)| v == GridVerdict::Static)
+    };
+    let mut candidates: Vec<(f64, &Prism)> = world
+        .prisms
+        .iter()
+        .filter(|p| p.id == first || !(is_static(p.id) || world.is_structure(p, config)))
+        .filter_map(|p| {
+            validity
+                .obstacle(p.id)
+                .map(|o| (o.distance_to_point(here), p))
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.id.cmp(&b.1.id)));
+    let prisms: Vec<&Prism> = candidates.into_iter().map(|(_, p)| p).collect();
+    if single_removal_opens(&prisms, validity, here, goal) {
+        return Err(Vec::new());
+    }
+    plan_sequence(
+        &prisms,
+        validity,
+        here,
+        goal,
+        &config.push,
+        &config.sequence,
+        floor,
+        Some(first),
+        rng,
+    )
 }
 
 #[cfg(test)]
@@ -595,22 +575,6 @@ mod tests {
         let x = face_on_line(&cloud, &base, 0.0, 0.45, 0.05).expect("a face on the line");
         assert!((x - 0.47).abs() < 1e-5, "{x}");
         assert!(face_on_line(&cloud, &base, -0.3, 0.45, 0.05).is_none());
-    }
-
-    #[test]
-    fn a_walk_refused_beside_an_obstacle_slides_along_it_and_off_it() {
-        // Invariant: a walk heading a few degrees into an obstacle beside the body slides parallel to it and ends at the reach from it (never nearer than it started); a walk heading away from it, or straight at it, does not slide.
-        let from = Point2::new(8.6, 0.83);
-        let table = Point2::new(8.6, 1.2);
-        let into = Vector2::new(4f64.to_radians().cos(), 4f64.to_radians().sin());
-        let to = slide_target(&from, &into, 0.3, &table, 0.45).expect("a slide");
-        assert!(
-            (to.x - 8.9).abs() < 1e-9 && (to.y - 0.75).abs() < 1e-9,
-            "{to:?}"
-        );
-        let away = Vector2::new(4f64.to_radians().cos(), -4f64.to_radians().sin());
-        assert!(slide_target(&from, &away, 0.3, &table, 0.45).is_none());
-        assert!(slide_target(&from, &Vector2::new(0.0, 1.0), 0.3, &table, 0.45).is_none());
     }
 
     #[test]

@@ -37,6 +37,9 @@ pub struct RunReport {
     /// Obstacles a later look showed to be part of another, with the id of the obstacle they joined:
     /// a verdict about one of them is about that obstacle (see [`Self::obstacle`]).
     pub joined: std::collections::BTreeMap<ObjectId, ObjectId>,
+    /// The push sequences the last sequence search considered when no single push opened the way,
+    /// each with what stopped it (empty when none was searched, or the last search found one).
+    pub sequences: Vec<nudge_motion::PairRecord>,
 }
 
 /// Two reports are equal when everything they say is: the grids compare by placement and by every cell's
@@ -54,6 +57,7 @@ impl PartialEq for RunReport {
             && self.timeline == other.timeline
             && self.obstacles == other.obstacles
             && self.joined == other.joined
+            && self.sequences == other.sequences
             && grid(self) == grid(other)
     }
 }
@@ -114,6 +118,7 @@ mod tests {
                 .into_iter()
                 .chain([(ObjectId(7), ObjectId(8)), (ObjectId(8), ObjectId(7))])
                 .collect(),
+            sequences: Vec::new(),
         };
         assert_eq!(
             report.obstacle(ObjectId(36)).map(|p| p.id),

@@ -158,10 +158,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// How far around an object the floor matters to pushing it (m): where the robot stands (up to
     /// the hand's reach plus its body's radius from the face) and where the object goes (the longest
-    /// push tried, and its margin).
+    /// of the short pushes a test is planned among, and its margin: a long clearing push is planned
+    /// once the object is known to move, from where its test left the robot).
     fn push_ring(&self) -> f64 {
         let push = &self.config.push;
-        let longest = push.distances.iter().copied().fold(0.0, f64::max) + push.distance_margin;
+        let longest = push
+            .distances
+            .iter()
+            .copied()
+            .filter(|d| *d <= nudge_motion::push::SHORT_PUSHES + 1e-9)
+            .fold(0.0, f64::max)
+            + push.distance_margin;
         (push.reach_x.1 + self.config.robot.radius).max(longest)
     }
 

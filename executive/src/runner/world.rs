@@ -64,6 +64,9 @@ pub(crate) struct WorldModel {
     /// The cells the viewpoint the robot arrived at is predicted to show: after its look, those still
     /// unseen count a failed look.
     pub pending_view: Option<Vec<usize>>,
+    /// The push sequences the last sequence search considered, each with what stopped it (empty when
+    /// it found one).
+    pub sequences: Vec<nudge_motion::PairRecord>,
 }
 
 /// Clearances tried when planning, as fractions of the configured one, largest first: where the robot
@@ -340,12 +343,12 @@ impl WorldModel {
             .unwrap_or(new)
     }
 
-    /// Moves `id`'s obstacle by a measured planar displacement (a confirmed push): its old footprint is
-    /// free now even where no background shows behind it.
-    pub fn displace(&mut self, id: nudge_perception::ObjectId, offset: nalgebra::Vector2<f64>) {
-        let motion = Isometry3::translation(offset.x, offset.y, 0.0);
+    /// Moves obstacle `id` by a measured rigid `motion` (map frame; a confirmed push, which may have
+    /// turned it as well as slid it): its old footprint is free now even where no background shows
+    /// behind it. Marked pushed and moved.
+    pub fn move_rigidly(&mut self, id: nudge_perception::ObjectId, motion: &Isometry3<f64>) {
         for p in self.prisms.iter_mut().filter(|p| p.id == id) {
-            *p = p.transformed(&motion);
+            *p = p.transformed(motion);
         }
         self.pushed.insert(id);
         self.moved.insert(id);
@@ -678,7 +681,7 @@ pub(super) mod tests {
             prisms: vec![prism(9, 2.75, 1.55, 3.25, 2.05)],
             ..WorldModel::default()
         };
-        world.displace(ObjectId(9), nalgebra::Vector2::new(0.0, -0.6));
+        world.move_rigidly(ObjectId(9), &Isometry3::translation(0.0, -0.6, 0.0));
         assert!(world.prisms[0].contains_xy(&Point2::new(2.8, 1.0)));
         // The look shows it 0.1 m short of the prediction and further east.
         // The look numbers its detections afresh.
@@ -712,7 +715,7 @@ pub(super) mod tests {
             prisms: vec![wall, cart],
             ..WorldModel::default()
         };
-        world.displace(ObjectId(9), nalgebra::Vector2::new(0.15, -0.65));
+        world.move_rigidly(ObjectId(9), &Isometry3::translation(0.15, -0.65, 0.0));
         // The look's one detection: the cart where it came to rest, and the wall's end beside it.
         let end = solid(0, (3.5, 0.9, 3.7, 1.2), 1.3);
         let mut seen = solid(31, (2.95, 0.95, 3.45, 1.45), 1.0).merged_with(&end);

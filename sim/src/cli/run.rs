@@ -126,6 +126,9 @@ fn summarise(report: &RunReport, wall: f64) {
         for r in &explanation.unseen {
             println!("unseen       {r}");
         }
+        for r in &report.sequences {
+            println!("sequence     {r}");
+        }
     }
     println!("robot time   {:.1} s", report.robot_time);
     println!("wall time    {wall:.2} s");
