@@ -7,13 +7,16 @@
 //! candidate). What is searched, in this order:
 //!
 //! 1. **Pairs.** Each ordered pair (A, B) of candidates, at most [`SequenceConfig::max_candidates`]
-//!    of them, nearest first. A pair whose joint removal leaves the goal unreachable (a flood fill,
-//!    [`certainly_unreachable`]) is ruled out at once: no pushing of the two can open the way.
+//!    of them: first those the cheapest way to the goal crosses when candidates may be driven
+//!    through at a cost ([`cheapest_crossing`], in the order it meets them), then the others in the
+//!    order given (nearest first). A pair whose joint removal leaves the goal unreachable (a flood
+//!    fill, [`certainly_unreachable`]) is ruled out at once: no pushing of the two can open the way.
 //! 2. **First pushes.** A's pushes whose sweep is valid ([`swept_pushes`]), at the distances of
 //!    [`SequenceConfig::first_distances`], stand poses nearest the robot first. One whose result,
 //!    with B removed, still leaves the goal unreachable is passed over (flood fill).
-//! 3. **Second push.** B's push, planned as a single push ([`plan_push_over`]) in the world after A's
-//!    push, from where A's push leaves the robot: it must open the way. The floor under it is not
+//! 3. **Second push.** B's push, planned as a single push ([`plan_push_over`]) at the same few
+//!    distances in the world after A's push, from where A's push leaves the robot: it must open the
+//!    way. The floor under it is not
 //!    checked here: the robot looks again before it is made, and plans it afresh from what it sees.
 //!
 //! The first sequence found is returned; when none is, every pair considered with what stopped it.
@@ -25,7 +28,8 @@ use nudge_perception::{ObjectId, Prism};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::problem::GoalRegion;
+use crate::blocking::{CrossingConfig, cheapest_crossing};
+use crate::problem::{GoalRegion, Problem};
 use crate::push::{
     PushConfig, PushError, PushPlan, SweptPush, plan_of_swept, plan_push_over, swept_pushes,
 };
@@ -41,6 +45,8 @@ pub struct SequenceConfig {
     /// Distances of the first push to try (m): a few, spread over the single push's range, since
     /// the second push is planned in full.
     pub first_distances: Vec<f64>,
+    /// The grid on which the candidates the way crosses are found.
+    pub crossing: CrossingConfig,
 }
 
 impl Default for SequenceConfig {
@@ -48,6 +54,7 @@ impl Default for SequenceConfig {
         Self {
             max_candidates: 4,
             first_distances: vec![0.5, 1.0, 1.5, 2.0, 3.0],
+            crossing: CrossingConfig::default(),
         }
     }
 }
@@ -127,7 +134,8 @@ pub fn single_removal_opens(
         .any(|p| !certainly_unreachable(&validity.without(&[p.id]), robot, goal))
 }
 
-/// Searches for two pushes, of two of `candidates` (nearest first; ids not in `validity` skipped),
+/// Searches for two pushes, of two of `candidates` (nearest first; ids not in `validity` skipped; those
+/// the way crosses taken first),
 /// that together open the way from `robot` to `goal`; the first push keeps to seen floor when
 /// `floor` is given. `first_only` restricts the search to sequences that push that object first.
 /// When none is found, every pair considered with what stopped it.
@@ -144,12 +152,23 @@ pub fn plan_sequence(
     rng: &mut ChaCha8Rng,
 ) -> Result<Sequence, Vec<PairRecord>> {
     let seed: u64 = rng.random();
-    let prisms: Vec<&Prism> = candidates
+    let present: Vec<&Prism> = candidates
         .iter()
         .copied()
         .filter(|p| validity.obstacle(p.id).is_some())
-        .take(search.max_candidates)
         .collect();
+    let ids: Vec<ObjectId> = present.iter().map(|p| p.id).collect();
+    let crossed = Problem::new(*robot, goal.centre(), goal.tolerance())
+        .ok()
+        .and_then(|problem| cheapest_crossing(&problem, validity, &ids, &search.crossing).ok())
+        .map(|c| c.crossed)
+        .unwrap_or_default();
+    let mut prisms: Vec<&Prism> = crossed
+        .iter()
+        .filter_map(|id| present.iter().copied().find(|p| p.id == *id))
+        .collect();
+    prisms.extend(present.iter().copied().filter(|p| !crossed.contains(&p.id)));
+    prisms.truncate(search.max_candidates);
     let mut records = Vec::new();
     for a in &prisms {
         if first_only.is_some_and(|id| id != a.id) {
@@ -219,6 +238,12 @@ fn try_pair(
     if pushes.is_empty() {
         return Err(PairMiss::NoFirstPush(PushError::Blocked(a.id)));
     }
+    // The second push at the first's few distances: it only has to exist here; the executive plans
+    // it again, over the whole range, after a look.
+    let coarse = PushConfig {
+        distances: search.first_distances.clone(),
+        ..config.clone()
+    };
     let mut last: Option<PushError> = None;
     let mut unreachable = false;
     for push in pushes {
@@ -228,7 +253,7 @@ fn try_pair(
         if certainly_unreachable(&after.without(&[b.id]), &push.end, goal) {
             continue;
         }
-        match plan_push_over(b, &after, &push.end, goal, config, None, rng) {
+        match plan_push_over(b, &after, &push.end, goal, &coarse, None, rng) {
             Ok(second) if second.opens_path => {
                 let Some(first) = plan_of_swept(push, a, validity, robot, config, rng) else {
                     unreachable = true;
