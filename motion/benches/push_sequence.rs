@@ -7,32 +7,25 @@
 //! best of 20 timings (the run the shared machine's load disturbed least). Timing is printed, never
 //! asserted.
 
-use std::hint::black_box;
-use std::time::{Duration, Instant};
+#[path = "../tests/common/mod.rs"]
+mod common;
 
+use std::hint::black_box;
+
+use common::{best_of, boxed};
 use criterion::{Criterion, criterion_group};
-use nalgebra::{Isometry3, Point2};
+use nalgebra::Point2;
 use nudge_motion::{
     Bounds, GoalRegion, PushConfig, RobotCylinder, SequenceConfig, Validity, ValidityConfig,
     plan_sequence,
 };
-use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
+use nudge_perception::Prism;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+/// A box prism from the floor to `top`.
 fn block(id: u32, x0: f64, y0: f64, x1: f64, y1: f64, top: f64) -> Prism {
-    Prism {
-        id: ObjectId(id),
-        footprint: vec![
-            Point2::new(x0, y0),
-            Point2::new(x1, y0),
-            Point2::new(x1, y1),
-            Point2::new(x0, y1),
-        ],
-        z_min: 0.0,
-        z_max: top,
-        points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
-    }
+    boxed(id, x0, y0, x1, y1, 0.0, top)
 }
 
 /// The room's 20 obstacles: the crate (1), the chair (2), the wall's two parts (3, 4) and sixteen
@@ -52,17 +45,6 @@ fn room() -> Vec<Prism> {
         }
     }
     prisms
-}
-
-fn best_of(n: usize, mut f: impl FnMut()) -> Duration {
-    (0..n)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed()
-        })
-        .min()
-        .unwrap_or_default()
 }
 
 fn bench(c: &mut Criterion) {

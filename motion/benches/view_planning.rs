@@ -6,12 +6,14 @@
 //! once and printed with the sizes of its inputs and the time of each stage (best of 20, which
 //! the shared machine's load disturbs least). Timing is printed, never asserted.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
 #[path = "../tests/view_world/mod.rs"]
 mod view_world;
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
 
+use common::best_of;
 use criterion::{Criterion, criterion_group};
 use nalgebra::Point2;
 use nudge_motion::view::{Lattice, SightMap, Targets, ViewConfig, ViewScene, plan_view};
@@ -19,18 +21,6 @@ use view_world::{OFFICE_TARGET_ROOM, ROBOT, office, office_scan_poses, unobserve
 
 /// Where the robot stands: in the corridor, 5 m from the target room's door.
 const ROBOT_AT: (f64, f64) = (17.5, 13.0);
-
-/// The least wall time of `n` runs of `f`: the run the shared machine's load disturbed least.
-fn best_of(n: usize, mut f: impl FnMut()) -> Duration {
-    (0..n)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed()
-        })
-        .min()
-        .unwrap_or_default()
-}
 
 fn bench(c: &mut Criterion) {
     let world = office();

@@ -239,26 +239,9 @@ pub fn plan_push_over(
     rng: &mut ChaCha8Rng,
 ) -> Result<PushPlan, PushError> {
     let id = prism.id;
-    let object = validity
-        .obstacle(id)
-        .ok_or(PushError::UnknownObject(id))?
-        .clone();
+    let object = obstacle_of(prism, validity)?;
     let seed: u64 = rng.random();
-    let faces = pushable_faces(&object, prism, config);
-    if faces.is_empty() {
-        return Err(PushError::NoPushableFace(id));
-    }
-    let mut unseen = false;
-    let stances: Vec<Stance> = faces
-        .iter()
-        .filter_map(|f| match stance_for(f, validity, config, floor.as_ref()) {
-            Ok(s) => Some(s),
-            Err(miss) => {
-                unseen |= matches!(miss, Miss::Unseen);
-                None
-            }
-        })
-        .collect();
+    let (stances, mut unseen) = stances_of(&object, prism, validity, config, floor.as_ref())?;
     if stances.is_empty() {
         return Err(if unseen {
             PushError::UnseenFloor(id)
@@ -266,20 +249,8 @@ pub fn plan_push_over(
             PushError::NoStandPose(id)
         });
     }
-    let others: Vec<&Obstacle> = validity
-        .obstacles()
-        .iter()
-        .filter(|o| o.id() != id && o.heights_overlap(&object))
-        .collect();
-    let scene = PushScene {
-        object: &object,
-        others: &others,
-        validity,
-        without: &validity.without(&[id]),
-        goal,
-        config,
-        floor,
-    };
+    let around = Around::new(object, validity);
+    let scene = around.scene(validity, goal, config, floor);
     let mut candidates = Vec::new();
     for (k, stance) in stances.iter().enumerate() {
         let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add(k as u64));
@@ -326,6 +297,84 @@ pub fn plan_push_over(
     } else {
         PushError::Unreachable(id)
     })
+}
+
+/// The obstacle `prism` is in `validity`'s world.
+fn obstacle_of(prism: &Prism, validity: &Validity) -> Result<Obstacle, PushError> {
+    validity
+        .obstacle(prism.id)
+        .cloned()
+        .ok_or(PushError::UnknownObject(prism.id))
+}
+
+/// What every push of one object is checked against besides the world: the object, the other
+/// obstacles its sweep must keep clear of and the world without it.
+struct Around<'v> {
+    object: Obstacle,
+    others: Vec<&'v Obstacle>,
+    without: Validity,
+}
+
+impl<'v> Around<'v> {
+    fn new(object: Obstacle, validity: &'v Validity) -> Self {
+        let others = validity
+            .obstacles()
+            .iter()
+            .filter(|o| o.id() != object.id() && o.heights_overlap(&object))
+            .collect();
+        Self {
+            without: validity.without(&[object.id()]),
+            object,
+            others,
+        }
+    }
+
+    /// The scene pushes of the object are checked in.
+    fn scene<'a>(
+        &'a self,
+        validity: &'a Validity,
+        goal: &'a GoalRegion,
+        config: &'a PushConfig,
+        floor: Option<FloorCheck<'a>>,
+    ) -> PushScene<'a> {
+        PushScene {
+            object: &self.object,
+            others: &self.others,
+            validity,
+            without: &self.without,
+            goal,
+            config,
+            floor,
+        }
+    }
+}
+
+/// A stance in front of each of `object`'s pushable faces that has a free stand pose (on seen floor,
+/// with a floor check), and whether some face's only free stand poses lie on floor not yet seen;
+/// [`PushError::NoPushableFace`] when it has no face to push.
+fn stances_of(
+    object: &Obstacle,
+    prism: &Prism,
+    validity: &Validity,
+    config: &PushConfig,
+    floor: Option<&FloorCheck<'_>>,
+) -> Result<(Vec<Stance>, bool), PushError> {
+    let faces = pushable_faces(object, prism, config);
+    if faces.is_empty() {
+        return Err(PushError::NoPushableFace(object.id()));
+    }
+    let mut unseen = false;
+    let stances = faces
+        .iter()
+        .filter_map(|f| match stance_for(f, validity, config, floor) {
+            Ok(s) => Some(s),
+            Err(miss) => {
+                unseen |= matches!(miss, Miss::Unseen);
+                None
+            }
+        })
+        .collect();
+    Ok((stances, unseen))
 }
 
 /// A face of the footprint: its ends, inward push direction and the hand height on it.
@@ -666,18 +715,8 @@ pub fn swept_pushes(
     distances: &[f64],
 ) -> Result<Vec<SweptPush>, PushError> {
     let id = prism.id;
-    let object = validity
-        .obstacle(id)
-        .ok_or(PushError::UnknownObject(id))?
-        .clone();
-    let faces = pushable_faces(&object, prism, config);
-    if faces.is_empty() {
-        return Err(PushError::NoPushableFace(id));
-    }
-    let mut stances: Vec<Stance> = faces
-        .iter()
-        .filter_map(|f| stance_for(f, validity, config, floor.as_ref()).ok())
-        .collect();
+    let object = obstacle_of(prism, validity)?;
+    let (mut stances, _) = stances_of(&object, prism, validity, config, floor.as_ref())?;
     if stances.is_empty() {
         return Err(PushError::NoStandPose(id));
     }
@@ -686,20 +725,8 @@ pub fn swept_pushes(
             .norm()
             .total_cmp(&(b.stand - robot).norm())
     });
-    let others: Vec<&Obstacle> = validity
-        .obstacles()
-        .iter()
-        .filter(|o| o.id() != id && o.heights_overlap(&object))
-        .collect();
-    let scene = PushScene {
-        object: &object,
-        others: &others,
-        validity,
-        without: &validity.without(&[id]),
-        goal,
-        config,
-        floor,
-    };
+    let around = Around::new(object, validity);
+    let scene = around.scene(validity, goal, config, floor);
     let mut out = Vec::new();
     for stance in &stances {
         for &distance in distances {

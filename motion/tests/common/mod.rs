@@ -114,3 +114,16 @@ pub fn room() -> (Validity, Problem) {
     let p = Problem::new(Point2::new(0.6, 1.8), Point2::new(5.4, 1.8), 0.2).expect("room problem");
     (v, p)
 }
+
+/// The least wall time of `n` runs of `f`: the run the shared machine's load disturbed least (the
+/// benchmarks print it beside criterion's figures).
+pub fn best_of(n: usize, mut f: impl FnMut()) -> std::time::Duration {
+    (0..n)
+        .map(|_| {
+            let t = std::time::Instant::now();
+            f();
+            t.elapsed()
+        })
+        .min()
+        .unwrap_or_default()
+}
