@@ -1,5 +1,13 @@
 //! Many runs on a few threads: each worker takes the next job, runs it, and hands the result back
 //! to the calling thread, which sees results as they finish.
+//!
+//! A batch's parallelism is its runs, one per worker, and each run stays on its worker's thread:
+//! every worker is a one-thread rayon pool of its own, so the parallel loops inside a run (the
+//! sensor's rows, the perception passes, ICP) run in order there instead of on the process-wide pool.
+//! Sharing that pool made `--jobs N` put N runs' fine-grained tasks onto one set of threads: runs
+//! waited on each other's tasks, and idle pool threads spun, so 16 jobs on 16 cores gave 3.8× one
+//! job. Runs are independent and about equally long, so one run per core wastes nothing but the
+//! batch's tail; and the results do not depend on the number of threads (`world_determinism`).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
@@ -126,15 +134,11 @@ pub fn run_all(
             let sender = sender.clone();
             let next = &next;
             scope.spawn(move || {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= jobs.len() || cancel.is_stopped() {
-                        break;
-                    }
-                    if sender.send((i, execute(&jobs[i], cancel))).is_err() {
-                        break;
-                    }
-                }
+                let Ok(pool) = one_thread_pool() else {
+                    // No pool: the runs use the shared one, slower when many run, same results.
+                    return work(jobs, next, cancel, &sender);
+                };
+                pool.install(|| work(jobs, next, cancel, &sender));
             });
         }
         drop(sender);
@@ -142,4 +146,30 @@ pub fn run_all(
             on_done(i, result);
         }
     });
+}
+
+/// A rayon pool whose only thread is the caller's own, so `install` runs on it without a hand-off.
+fn one_thread_pool() -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .use_current_thread()
+        .build()
+}
+
+/// One worker's loop: takes the next job until none is left or the batch is cancelled.
+fn work(
+    jobs: &[Job<'_>],
+    next: &AtomicUsize,
+    cancel: &Cancel,
+    sender: &mpsc::Sender<(usize, Result<Done, NotDone>)>,
+) {
+    loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        if i >= jobs.len() || cancel.is_stopped() {
+            break;
+        }
+        if sender.send((i, execute(&jobs[i], cancel))).is_err() {
+            break;
+        }
+    }
 }
