@@ -34,26 +34,40 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         })
         .collect();
     let policy = args.policy.into();
-    let jobs: Vec<(usize, Job<'_>)> = loaded
-        .iter()
-        .enumerate()
-        .filter_map(|(i, (_, s))| {
-            let s = s.as_ref().ok()?;
-            Some((
-                i,
+    // One row per (file, seed offset), in that order; a file that did not load is one row.
+    let mut labels: Vec<String> = Vec::new();
+    let mut rows: Vec<Option<Row>> = Vec::new();
+    let mut jobs: Vec<(usize, Job<'_>)> = Vec::new();
+    for (path, source) in &loaded {
+        let name = path.display().to_string();
+        let s = match source {
+            Ok(s) => s,
+            Err(e) => {
+                labels.push(name);
+                rows.push(Some(Row::Error(format!("{e:#}"))));
+                continue;
+            }
+        };
+        let first = args.seed.unwrap_or(s.scenario.seed);
+        for k in 0..args.seeds {
+            let seed = first.wrapping_add(k);
+            labels.push(if args.seeds > 1 {
+                format!("{name} seed {seed}")
+            } else {
+                name.clone()
+            });
+            jobs.push((
+                rows.len(),
                 Job {
                     scenario: &s.scenario,
                     file: &s.file,
-                    seed: args.seed.unwrap_or(s.scenario.seed),
+                    seed,
                     policy,
                 },
-            ))
-        })
-        .collect();
-    let mut rows: Vec<Option<Row>> = loaded
-        .iter()
-        .map(|(_, s)| s.as_ref().err().map(|e| Row::Error(format!("{e:#}"))))
-        .collect();
+            ));
+            rows.push(None);
+        }
+    }
     let cancel = Cancel::default();
     let handler = cancel.clone();
     let _ = ctrlc::set_handler(move || handler.stop());
@@ -70,7 +84,7 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             rows[indices[j]] = Some(row);
         },
     );
-    let failed = print_table(&loaded, &rows);
+    let failed = print_table(&labels, &rows);
     Ok(if failed == 0 {
         ExitCode::SUCCESS
     } else {
@@ -104,19 +118,14 @@ fn row(job: &Job<'_>, done: &Done) -> Row {
     }
 }
 
-/// Prints one line per scenario and the totals; returns how many failed (errors and cancelled included).
-fn print_table(loaded: &[(PathBuf, anyhow::Result<Source>)], rows: &[Option<Row>]) -> usize {
+/// Prints one line per run (or file that did not load) and the totals; returns how many failed
+/// (errors and cancelled included).
+fn print_table(labels: &[String], rows: &[Option<Row>]) -> usize {
     let mut failed = 0;
     let mut unchecked = 0;
-    let width = loaded
-        .iter()
-        .map(|(p, _)| p.display().to_string().len())
-        .max()
-        .unwrap_or(8)
-        .max(8);
+    let width = labels.iter().map(String::len).max().unwrap_or(8).max(8);
     println!("{:<width$}  result    what happened", "scenario");
-    for ((path, _), row) in loaded.iter().zip(rows) {
-        let name = path.display().to_string();
+    for (name, row) in labels.iter().zip(rows) {
         match row {
             Some(Row::Pass { summary }) => println!("{name:<width$}  pass      {summary}"),
             Some(Row::Fail {

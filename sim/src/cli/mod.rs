@@ -110,6 +110,9 @@ struct CheckArgs {
     /// Seed of every run; each scenario's own seed when omitted.
     #[arg(long)]
     seed: Option<u64>,
+    /// Seeds per scenario: offset k runs with that seed + k, k = 0..N; one row each.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
     /// Candidate policy.
     #[arg(long, value_enum, default_value = "nearest")]
     policy: Policy,
