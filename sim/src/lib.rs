@@ -8,6 +8,7 @@
 pub mod actors;
 pub mod adapter;
 pub mod humanoid;
+pub mod metrics;
 pub mod run;
 pub mod scenario;
 pub mod score;

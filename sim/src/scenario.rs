@@ -103,6 +103,10 @@ pub struct Scenario {
     /// One line on what the scenario shows.
     #[serde(default)]
     pub description: String,
+    /// The family a generated scenario belongs to (`nudge generate`); results are summed per family.
+    /// None for a hand-made scenario, whose family is its own name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub family: Option<String>,
     /// Default seed of a run; the CLI may override it.
     #[serde(default = "default_seed")]
     pub seed: u64,

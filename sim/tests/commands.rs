@@ -178,6 +178,27 @@ fn batch_shards_merge_into_the_same_results_as_one_batch() {
         merged,
         table(nudge(&["report", all.to_str().expect("utf-8")]))
     );
+    // The CSV holds a header and one row per run, with the metrics: the open room's run has an SPL
+    // in (0, 1], the all-static room's none (no way exists even without movable objects).
+    let csv_path = dir.path().join("runs.csv");
+    let out = nudge(&[
+        "report",
+        all.to_str().expect("utf-8"),
+        "--by",
+        "scenario",
+        "--csv",
+        csv_path.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{:?}", text(&out));
+    let csv = std::fs::read_to_string(&csv_path).expect("csv written");
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows.len(), 5, "header and 4 runs: {csv}");
+    let header: Vec<&str> = rows[0].split(',').collect();
+    let spl = header.iter().position(|h| *h == "spl").expect("spl column");
+    let field = |row: &str| row.split(',').nth(spl).unwrap_or("").to_string();
+    assert_eq!(field(rows[1]), "", "all-static has no SPL: {}", rows[1]);
+    let open_spl: f64 = field(rows[3]).parse().expect("open room's SPL");
+    assert!(open_spl > 0.0 && open_spl <= 1.0, "{open_spl}");
 }
 
 #[test]

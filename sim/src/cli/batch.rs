@@ -15,7 +15,7 @@ use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::pool::{Cancel, Job, NotDone, run_all};
-use super::results::{RunLine, table};
+use super::results::{Group, RunLine, table};
 use super::source::{Source, expand};
 use super::{BatchArgs, EXIT_ABORTED, EXIT_INPUT, Shard};
 
@@ -113,7 +113,7 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
     if let Some(e) = write_error {
         return Err(e).with_context(|| format!("cannot write {}", out_path.display()));
     }
-    print!("{}", table(&lines));
+    print!("{}", table(&lines, Group::Family));
     println!("{} result lines in {}", lines.len(), out_path.display());
     Ok(if cancel.is_stopped() {
         eprintln!(

@@ -148,6 +148,12 @@ struct ReportArgs {
     /// Result files of `nudge batch` (shards are merged; repeated runs count once).
     #[arg(required = true, value_name = "RESULTS.jsonl")]
     files: Vec<PathBuf>,
+    /// One row per family (a hand-made scenario is its own family) or per scenario.
+    #[arg(long, value_enum, default_value = "family")]
+    by: results::Group,
+    /// Also write every run as one CSV row to this file.
+    #[arg(long, value_name = "FILE.csv")]
+    csv: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]

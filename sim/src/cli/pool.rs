@@ -17,6 +17,7 @@ use std::time::Instant;
 use nudge_executive::record::Observer;
 use nudge_executive::robot::Wrench;
 use nudge_executive::{AbortReason, CandidatePolicy, RunReport, State};
+use nudge_sim::metrics::{RunMetrics, Start, measure};
 use nudge_sim::run::runner;
 use nudge_sim::scenario::Scenario;
 use nudge_sim::score::{Scored, score};
@@ -43,6 +44,8 @@ pub struct Done {
     pub peak_force: f64,
     /// Wall-clock seconds the run took.
     pub wall: f64,
+    /// The standard metrics (SPL, effort, INS, mistakes) against ground truth.
+    pub metrics: RunMetrics,
 }
 
 /// Cancels every run in progress and keeps new ones from starting (Ctrl-C).
@@ -103,6 +106,7 @@ pub enum NotDone {
 pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
     let started = Instant::now();
     let mut runner = runner(job.scenario, job.seed, job.policy, PeakForce::default())?;
+    let start = Start::of(job.scenario, runner.robot().world());
     cancel.watch(runner.cancel_flag());
     let report = runner.run();
     if matches!(report.outcome, State::Aborted(AbortReason::Cancelled, _)) {
@@ -111,11 +115,13 @@ pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
     let wall = started.elapsed().as_secs_f64();
     let (robot, peak) = runner.into_parts();
     let scored = score(&report, &robot);
+    let metrics = measure(&start, &report, robot.world(), &scored);
     Ok(Done {
         report,
         scored,
         peak_force: peak.0,
         wall,
+        metrics,
     })
 }
 

@@ -37,12 +37,50 @@ pub struct RunLine {
     pub wall_time: f64,
     /// Largest wrist force of the run (N).
     pub peak_force: f64,
+    /// The scenario's family (`nudge generate`), or its own name for a hand-made one.
+    #[serde(default)]
+    pub family: String,
+    /// Distance the base walked (m).
+    #[serde(default)]
+    pub walked: f64,
+    /// Shortest way to the goal with every movable object taken away (m); absent where static
+    /// things shut the goal off.
+    #[serde(default)]
+    pub ideal_path: Option<f64>,
+    /// Success weighted by path length (iGibson's path efficiency).
+    #[serde(default)]
+    pub spl: Option<f64>,
+    /// Σ mass × displacement of the objects the robot moved (kg·m).
+    #[serde(default)]
+    pub displaced: f64,
+    /// Work the hand exchanged with what it touched (J).
+    #[serde(default)]
+    pub hand_work: f64,
+    /// Impulse of the hand's horizontal force on what it touched (N·s).
+    #[serde(default)]
+    pub hand_impulse: f64,
+    /// iGibson's effort efficiency.
+    #[serde(default)]
+    pub effort_efficiency: f64,
+    /// Interactive Navigation Score (α = 0.5); absent where there is no ideal path.
+    #[serde(default)]
+    pub ins: Option<f64>,
+    /// Movable objects called static.
+    #[serde(default)]
+    pub false_static: u32,
+    /// Static objects called movable.
+    #[serde(default)]
+    pub false_movable: u32,
+    /// New contacts with people; absent in a scenario without people.
+    #[serde(default)]
+    pub people_contacts: Option<u32>,
 }
 
 impl RunLine {
     /// The line of a finished job.
     pub fn of(job: &Job<'_>, done: &Done) -> Self {
         let right = done.scored.iter().filter(|s| s.correct).count() as u32;
+        let m = &done.metrics;
         Self {
             scenario: job.scenario.name.clone(),
             file: job.file.to_string(),
@@ -55,6 +93,32 @@ impl RunLine {
             robot_time: done.report.robot_time,
             wall_time: done.wall,
             peak_force: done.peak_force,
+            family: job
+                .scenario
+                .family
+                .clone()
+                .unwrap_or_else(|| job.scenario.name.clone()),
+            walked: m.walked,
+            ideal_path: m.ideal_path,
+            spl: m.spl,
+            displaced: m.displaced,
+            hand_work: m.hand_work,
+            hand_impulse: m.hand_impulse,
+            effort_efficiency: m.effort_efficiency,
+            ins: m.ins,
+            false_static: m.false_static,
+            false_movable: m.false_movable,
+            people_contacts: m.people_contacts,
+        }
+    }
+
+    /// The family the line is summed under: its own, or its scenario's name in files written before
+    /// lines had families.
+    pub fn family(&self) -> &str {
+        if self.family.is_empty() {
+            &self.scenario
+        } else {
+            &self.family
         }
     }
 
@@ -84,6 +148,15 @@ pub fn read(path: &Path) -> anyhow::Result<Vec<RunLine>> {
         .collect()
 }
 
+/// What the table's rows sum: each scenario, or each family of scenarios.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Group {
+    /// One row per family (a hand-made scenario is a family of its own).
+    Family,
+    /// One row per scenario.
+    Scenario,
+}
+
 #[derive(Default)]
 struct Tally {
     runs: u32,
@@ -93,16 +166,53 @@ struct Tally {
     push_tests: u64,
     right: u64,
     wrong: u64,
+    false_static: u64,
+    false_movable: u64,
     robot_time: f64,
     peak_force: f64,
+    spl: Mean,
+    ins: Mean,
+    displaced: f64,
+    hand_work: f64,
+    people_contacts: Option<u64>,
 }
 
-/// The summary table, one row per scenario and policy: runs, outcomes, success rate, mean push tests,
-/// classification accuracy (right / all verdicts), mean robot time, largest force.
-pub fn table(lines: &[RunLine]) -> String {
+/// A mean over the runs where a value exists.
+#[derive(Default)]
+struct Mean {
+    sum: f64,
+    count: u32,
+}
+
+impl Mean {
+    fn add(&mut self, v: Option<f64>) {
+        if let Some(v) = v {
+            self.sum += v;
+            self.count += 1;
+        }
+    }
+
+    fn show(&self) -> String {
+        if self.count == 0 {
+            "-".to_string()
+        } else {
+            format!("{:.3}", self.sum / f64::from(self.count))
+        }
+    }
+}
+
+/// The summary table, one row per family (or scenario) and policy: runs, outcomes, success rate,
+/// mean SPL and INS (over the runs that have them), mean mass displaced and hand work, mean push
+/// tests, classification accuracy (right / all verdicts), false-static and false-movable verdicts,
+/// mean robot time, largest force and contacts with people.
+pub fn table(lines: &[RunLine], group: Group) -> String {
     let mut tallies: BTreeMap<(&str, &str), Tally> = BTreeMap::new();
     for l in lines {
-        let t = tallies.entry((&l.scenario, &l.policy)).or_default();
+        let name = match group {
+            Group::Family => l.family(),
+            Group::Scenario => &l.scenario,
+        };
+        let t = tallies.entry((name, &l.policy)).or_default();
         t.runs += 1;
         match l.outcome.as_str() {
             "goal" => t.goal += 1,
@@ -114,6 +224,15 @@ pub fn table(lines: &[RunLine]) -> String {
         t.wrong += u64::from(l.wrong);
         t.robot_time += l.robot_time;
         t.peak_force = t.peak_force.max(l.peak_force);
+        t.false_static += u64::from(l.false_static);
+        t.false_movable += u64::from(l.false_movable);
+        t.spl.add(l.spl);
+        t.ins.add(l.ins);
+        t.displaced += l.displaced;
+        t.hand_work += l.hand_work;
+        if let Some(c) = l.people_contacts {
+            *t.people_contacts.get_or_insert(0) += u64::from(c);
+        }
     }
     let width = tallies
         .keys()
@@ -122,18 +241,27 @@ pub fn table(lines: &[RunLine]) -> String {
         .unwrap_or(0)
         .max(8);
     let mut out = format!(
-        "{:<width$}  {:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>7}  {:>10}  {:>8}  {:>10}  {:>9}\n",
-        "scenario",
+        "{:<width$}  {:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>8}\n",
+        match group {
+            Group::Family => "family",
+            Group::Scenario => "scenario",
+        },
         "policy",
         "runs",
         "goal",
         "no_path",
         "aborted",
         "success",
+        "SPL",
+        "INS",
+        "moved kg·m",
+        "work J",
         "push tests",
         "accuracy",
+        "F-S/M",
         "robot time",
-        "max force"
+        "max force",
+        "contacts"
     );
     for ((scenario, policy), t) in &tallies {
         let runs = f64::from(t.runs.max(1));
@@ -143,13 +271,21 @@ pub fn table(lines: &[RunLine]) -> String {
         } else {
             format!("{:.1}%", 100.0 * t.right as f64 / verdicts as f64)
         };
+        let mistakes = format!("{}/{}", t.false_static, t.false_movable);
+        let contacts = t
+            .people_contacts
+            .map_or_else(|| "-".to_string(), |c| c.to_string());
         out.push_str(&format!(
-            "{scenario:<width$}  {policy:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>10.2}  {accuracy:>8}  {:>8.1} s  {:>7.1} N\n",
+            "{scenario:<width$}  {policy:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {contacts:>8}\n",
             t.runs,
             t.goal,
             t.no_path,
             t.aborted,
             100.0 * f64::from(t.goal) / runs,
+            t.spl.show(),
+            t.ins.show(),
+            t.displaced / runs,
+            t.hand_work / runs,
             t.push_tests as f64 / runs,
             t.robot_time / runs,
             t.peak_force,
@@ -175,6 +311,18 @@ mod tests {
             robot_time: 100.0,
             wall_time: 1.0,
             peak_force: 18.0,
+            family: String::new(),
+            walked: 10.0,
+            ideal_path: Some(8.0),
+            spl: Some(0.8),
+            displaced: 0.0,
+            hand_work: 0.0,
+            hand_impulse: 0.0,
+            effort_efficiency: 1.0,
+            ins: Some(0.9),
+            false_static: 0,
+            false_movable: 0,
+            people_contacts: None,
         }
     }
 
@@ -186,7 +334,7 @@ mod tests {
             line("room", 2, "no_path", 1, 1),
             line("hall", 1, "goal", 0, 0),
         ];
-        let t = table(&lines);
+        let t = table(&lines, Group::Scenario);
         let room = t.lines().find(|l| l.starts_with("room")).expect("room row");
         assert!(room.contains(" 50.0%"), "{room}");
         assert!(room.contains(" 75.0%"), "{room}");

@@ -29,6 +29,10 @@ pub const TURN_RATE: f64 = 0.5;
 pub const SAFETY_MARGIN: f64 = 0.015;
 /// Mass of the hand (kg).
 pub const HAND_MASS: f64 = 0.5;
+/// The whole robot's mass (kg): HRP-2's, the paper's robot, 58 kg with its batteries (Kaneko et al.,
+/// "Humanoid robot HRP-2", ICRA 2004). The simulated body is kinematic, so physics never uses it;
+/// the effort metrics weigh the robot's own travel with it (`crate::metrics`).
+pub const ROBOT_MASS: f64 = 58.0;
 /// Half extents of the hand box: 4 cm thick along x (the palm faces forward), 10 × 10 cm (m).
 pub const HAND_HALF: [f32; 3] = [0.02, 0.05, 0.05];
 /// Stiffness of the wrist's linear compliance (N/m): arm and sensor are not infinitely stiff, and a

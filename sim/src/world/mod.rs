@@ -18,6 +18,7 @@
 
 pub mod build;
 pub mod convert;
+pub mod effort;
 
 use std::collections::HashMap;
 
@@ -33,6 +34,7 @@ use crate::scenario::{ObjectSpec, Scenario};
 use crate::sensors::wrist_ft::{WristFt, WristFtConfig, WristFtError, wrench_on_wrist};
 use crate::surface::Surface;
 use convert::iso_from_pose;
+use effort::Effort;
 
 /// Physics step while the hand moves or touches (µs): the wrist sensor's 1 kHz.
 pub const FINE_STEP_US: u64 = 1_000;
@@ -132,6 +134,9 @@ pub struct World {
     fine_steps: u64,
     room_size: [f64; 2],
     robot_height: f64,
+    effort: Effort,
+    hand_touching: bool,
+    touching_person: bool,
 }
 
 impl World {
@@ -203,6 +208,9 @@ impl World {
             fine_steps: 0,
             room_size: room.size,
             robot_height: scenario.robot.height,
+            effort: Effort::default(),
+            hand_touching: false,
+            touching_person: false,
         };
         // Settle contacts and fill the query structures before anyone senses.
         world.physics.integration_parameters.dt = 0.0;
@@ -218,6 +226,11 @@ impl World {
     /// The seed the world was built with.
     pub fn seed(&self) -> u64 {
         self.seed
+    }
+
+    /// What the robot has spent and disturbed so far (ground truth).
+    pub fn effort(&self) -> &Effort {
+        &self.effort
     }
 
     /// Number of physics steps taken so far.
@@ -370,6 +383,7 @@ impl World {
                 .latest()
                 .is_some_and(|r| r.value.force_norm() >= PRESSING_FORCE);
         self.pressed_since_us = pressing.then(|| self.pressed_since_us.unwrap_or(self.time_us));
+        self.hand_touching = touching;
         if touching {
             if self.steady_push() {
                 Stepping::Pressing
@@ -432,6 +446,7 @@ impl World {
     fn step(&mut self, h_us: u64, stepping: Stepping) {
         let h = h_us as f64 * 1.0e-6;
         let t1 = self.time_us + h_us;
+        let before = self.robot_pose();
         for actor in &mut self.actors {
             actor.update(t1 as f64 * 1.0e-6, &mut self.physics);
         }
@@ -467,10 +482,67 @@ impl World {
                 self.wrist_truth = wrench_on_wrist(joint, substeps, h);
             }
         }
+        self.measure_effort(h, before);
         let truth = self.wrist_truth;
         let reading = self.wrist_ft.record(&truth, self.time_us, t1);
         self.time_us = t1;
         self.check_guard(reading);
+    }
+
+    /// Where the base and the hand are on the floor plan.
+    fn robot_pose(&self) -> effort::Pose {
+        let base = self.humanoid.base_pose().translation.vector;
+        let hand = self.humanoid.hand_in_map(&self.physics);
+        effort::Pose {
+            base: nalgebra::Point2::from(base),
+            hand: nalgebra::Point2::new(hand.x, hand.y),
+        }
+    }
+
+    /// Adds the step just taken to the run's effort: the base's and hand's travel, the wrist's true
+    /// force turned into the map while the hand touches something, and new contacts with people.
+    fn measure_effort(&mut self, h: f64, before: effort::Pose) {
+        let after = self.robot_pose();
+        let force = self.hand_touching.then(|| {
+            let wrist = self
+                .physics
+                .bodies
+                .get(self.humanoid.parts().wrist)
+                .map(|b| iso_from_pose(b.position()).rotation)
+                .unwrap_or_default();
+            let f = wrist * self.wrist_truth.force;
+            nalgebra::Vector2::new(f.x, f.y)
+        });
+        self.effort.add_step(h, before, after, force);
+        if !self.actors.is_empty() {
+            let touching = self.robot_touches_a_person();
+            self.effort.person_contact(self.touching_person, touching);
+            self.touching_person = touching;
+        }
+    }
+
+    /// Whether the robot's body or hand is in contact with any actor.
+    fn robot_touches_a_person(&self) -> bool {
+        let parts = self.humanoid.parts();
+        [parts.body_collider, parts.hand_collider]
+            .into_iter()
+            .any(|own| {
+                self.physics
+                    .narrow_phase
+                    .contact_pairs_with(own)
+                    .any(|pair| {
+                        let other = if pair.collider1 == own {
+                            pair.collider2
+                        } else {
+                            pair.collider1
+                        };
+                        pair.has_any_active_contact()
+                            && matches!(
+                                self.surfaces.get(&other).map(|s| s.owner),
+                                Some(crate::surface::Owner::Actor(_))
+                            )
+                    })
+            })
     }
 
     /// Stops a guarded move the moment the tared force reaches its limit, and a walk when the hand
