@@ -131,6 +131,38 @@ fn default_seed() -> u64 {
     1
 }
 
+impl Scenario {
+    /// An empty `size` room with the robot at `start` (x, y, yaw in degrees) and the goal at `goal`,
+    /// everything else the format's defaults: what a generator starts from.
+    pub fn bare(name: &str, size: [f64; 2], start: [f64; 3], goal: [f64; 2]) -> Self {
+        Self {
+            name: name.to_string(),
+            description: String::new(),
+            family: None,
+            seed: default_seed(),
+            room: Room {
+                size,
+                wall_height: default_wall_height(),
+                floor_colour: default_floor_colour(),
+                wall_colour: default_wall_colour(),
+            },
+            robot: RobotSpec {
+                start,
+                radius: default_robot_radius(),
+                height: default_robot_height(),
+                walk_speed: default_walk_speed(),
+            },
+            goal: Goal {
+                position: goal,
+                tolerance: default_goal_tolerance(),
+            },
+            objects: Vec::new(),
+            actors: Vec::new(),
+            expect: None,
+        }
+    }
+}
+
 /// The room: a floor `size[0] × size[1]` with its corner at the origin, walls around it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -2,6 +2,7 @@
 
 mod batch;
 mod check;
+mod generate;
 mod inspect;
 mod map;
 mod pool;
@@ -47,6 +48,9 @@ enum Command {
     Report(ReportArgs),
     /// Show what an MCAP recording holds: topics, counts, time span, metadata, the run's summary.
     Inspect(InspectArgs),
+    /// Write generated scenarios of one or more families, each with an [expect] block right by
+    /// construction (checked against the true world).
+    Generate(GenerateArgs),
 }
 
 /// Candidate policy as typed on the command line.
@@ -157,6 +161,23 @@ struct ReportArgs {
 }
 
 #[derive(clap::Args, Debug)]
+struct GenerateArgs {
+    /// Families to generate (each: what it varies and guarantees is in `nudge generate --help`'s
+    /// list and the README).
+    #[arg(required = true, value_enum, value_name = "FAMILY")]
+    families: Vec<nudge_sim::generate::Family>,
+    /// Scenarios per family.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    count: u64,
+    /// Generator seed: the same seed writes the same files.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Folder to write FAMILY-NNN.toml files into (made if missing).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+}
+
+#[derive(clap::Args, Debug)]
 struct InspectArgs {
     /// The MCAP recording.
     #[arg(value_name = "FILE.mcap")]
@@ -215,6 +236,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
         Some(Command::Batch(args)) => batch::batch(args),
         Some(Command::Report(args)) => report::report(args),
         Some(Command::Inspect(args)) => inspect::inspect(args),
+        Some(Command::Generate(args)) => generate::generate(args),
         None => run::run(RunArgs::default()),
     }
 }

@@ -24,15 +24,13 @@ use nalgebra::{Isometry3, Point2};
 use nudge_executive::{RunReport, State, Verdict};
 
 use crate::humanoid::ROBOT_MASS;
-use crate::scenario::Scenario;
+use crate::scenario::{GRAVITY, Scenario};
 use crate::score::Scored;
 use crate::truth::{Movability, Truth};
 use crate::world::World;
 
 /// iGibson's weight of path efficiency against effort efficiency in INS.
 pub const INS_ALPHA: f64 = 0.5;
-/// Standard gravity (m/s²).
-const G: f64 = 9.81;
 
 /// What is known before the run starts: the ideal path and where every object stands.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,7 +116,7 @@ pub fn measure(start: &Start, report: &RunReport, world: &World, scored: &[Score
         .map(|ideal| path_efficiency(success, ideal, effort.walked));
     let robot_travel = ROBOT_MASS * effort.walked;
     let kinematic = ratio(robot_travel, robot_travel + displaced);
-    let weight_time = ROBOT_MASS * G * report.robot_time;
+    let weight_time = ROBOT_MASS * GRAVITY * report.robot_time;
     let dynamic = ratio(weight_time, weight_time + effort.hand_impulse);
     let effort_efficiency = if success {
         0.5 * (kinematic + dynamic)

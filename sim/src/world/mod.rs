@@ -503,7 +503,12 @@ impl World {
     /// force turned into the map while the hand touches something, and new contacts with people.
     fn measure_effort(&mut self, h: f64, before: effort::Pose) {
         let after = self.robot_pose();
-        let force = self.hand_touching.then(|| {
+        // A person shoving the hand is not the robot's effort: steps where the hand touches one
+        // count towards contacts, not towards the hand's work.
+        let pushing = self.hand_touching
+            && (self.actors.is_empty()
+                || !self.touches_a_person(self.humanoid.parts().hand_collider));
+        let force = pushing.then(|| {
             let wrist = self
                 .physics
                 .bodies
@@ -524,24 +529,25 @@ impl World {
     /// Whether the robot's body or hand is in contact with any actor.
     fn robot_touches_a_person(&self) -> bool {
         let parts = self.humanoid.parts();
-        [parts.body_collider, parts.hand_collider]
-            .into_iter()
-            .any(|own| {
-                self.physics
-                    .narrow_phase
-                    .contact_pairs_with(own)
-                    .any(|pair| {
-                        let other = if pair.collider1 == own {
-                            pair.collider2
-                        } else {
-                            pair.collider1
-                        };
-                        pair.has_any_active_contact()
-                            && matches!(
-                                self.surfaces.get(&other).map(|s| s.owner),
-                                Some(crate::surface::Owner::Actor(_))
-                            )
-                    })
+        self.touches_a_person(parts.body_collider) || self.touches_a_person(parts.hand_collider)
+    }
+
+    /// Whether collider `own` is in contact with any actor.
+    fn touches_a_person(&self, own: ColliderHandle) -> bool {
+        self.physics
+            .narrow_phase
+            .contact_pairs_with(own)
+            .any(|pair| {
+                let other = if pair.collider1 == own {
+                    pair.collider2
+                } else {
+                    pair.collider1
+                };
+                pair.has_any_active_contact()
+                    && matches!(
+                        self.surfaces.get(&other).map(|s| s.owner),
+                        Some(crate::surface::Owner::Actor(_))
+                    )
             })
     }
 
