@@ -141,3 +141,31 @@ fn the_paper_run_scores_a_high_spl_and_ins_with_its_one_chair_moved() {
     assert_eq!(m.people_contacts, None);
     assert!(m.walked >= m.ideal_path.expect("ideal") * 0.9, "{m:?}");
 }
+
+#[test]
+fn a_person_walking_into_the_standing_robot_is_one_contact_and_no_hand_work() {
+    // Invariant: a person whose way runs through the standing robot touches it (at least one contact counted, each contact once), and the robot, which did nothing, spent no hand work and walked nowhere.
+    let s = scenario(
+        r#"
+name = "bump"
+[room]
+size = [6.0, 3.6]
+[robot]
+start = [3.0, 1.8, 0.0]
+[goal]
+position = [5.0, 1.8]
+[[actor]]
+name = "walker"
+waypoints = [[1.0, 1.8], [5.0, 1.8]]
+speed = 0.5
+"#,
+    );
+    let mut world = World::new(&s, 1).expect("world");
+    for _ in 0..100 {
+        world.advance(0.1).expect("advance");
+    }
+    let effort = world.effort();
+    assert!(effort.people_contacts >= 1, "{effort:?}");
+    assert!(effort.people_contacts <= 3, "one pass, not every step: {effort:?}");
+    assert!(effort.hand_work < 1e-9 && effort.walked < 1e-9, "{effort:?}");
+}
