@@ -166,6 +166,12 @@ speed = 0.5
     }
     let effort = world.effort();
     assert!(effort.people_contacts >= 1, "{effort:?}");
-    assert!(effort.people_contacts <= 3, "one pass, not every step: {effort:?}");
-    assert!(effort.hand_work < 1e-9 && effort.walked < 1e-9, "{effort:?}");
+    assert!(
+        effort.people_contacts <= 3,
+        "one pass, not every step: {effort:?}"
+    );
+    assert!(
+        effort.hand_work < 1e-9 && effort.walked < 1e-9,
+        "{effort:?}"
+    );
 }

@@ -8,7 +8,7 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 use super::pool::{Done, Job};
-use nudge_sim::score::Outcome;
+use nudge_sim::score::{Outcome, compare};
 
 /// One run of a batch, as one JSON line. Everything but `wall_time` depends only on the scenario,
 /// the seed and the policy.
@@ -40,6 +40,10 @@ pub struct RunLine {
     /// The scenario's family (`nudge generate`), or its own name for a hand-made one.
     #[serde(default)]
     pub family: String,
+    /// Whether the run met its scenario's `[expect]` block (outcome and named verdicts); absent for
+    /// a scenario without one.
+    #[serde(default)]
+    pub expect_met: Option<bool>,
     /// Distance the base walked (m).
     #[serde(default)]
     pub walked: f64,
@@ -98,6 +102,11 @@ impl RunLine {
                 .family
                 .clone()
                 .unwrap_or_else(|| job.scenario.name.clone()),
+            expect_met: job
+                .scenario
+                .expect
+                .as_ref()
+                .map(|e| compare(e, Outcome::of(&done.report.outcome), &done.scored).is_empty()),
             walked: m.walked,
             ideal_path: m.ideal_path,
             spl: m.spl,
@@ -175,6 +184,8 @@ struct Tally {
     displaced: f64,
     hand_work: f64,
     people_contacts: Option<u64>,
+    expect_met: u32,
+    expect_runs: u32,
 }
 
 /// A mean over the runs where a value exists.
@@ -201,10 +212,10 @@ impl Mean {
     }
 }
 
-/// The summary table, one row per family (or scenario) and policy: runs, outcomes, success rate,
-/// mean SPL and INS (over the runs that have them), mean mass displaced and hand work, mean push
-/// tests, classification accuracy (right / all verdicts), false-static and false-movable verdicts,
-/// mean robot time, largest force and contacts with people.
+/// The summary table, one row per family (or scenario) and policy: runs, runs that met their
+/// `[expect]` block, outcomes, success rate, mean SPL and INS (over the runs that have them), mean
+/// mass displaced and hand work, mean push tests, classification accuracy (right / all verdicts),
+/// false-static and false-movable verdicts, mean robot time, largest force and contacts with people.
 pub fn table(lines: &[RunLine], group: Group) -> String {
     let mut tallies: BTreeMap<(&str, &str), Tally> = BTreeMap::new();
     for l in lines {
@@ -230,6 +241,10 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         t.ins.add(l.ins);
         t.displaced += l.displaced;
         t.hand_work += l.hand_work;
+        if let Some(met) = l.expect_met {
+            t.expect_runs += 1;
+            t.expect_met += u32::from(met);
+        }
         if let Some(c) = l.people_contacts {
             *t.people_contacts.get_or_insert(0) += u64::from(c);
         }
@@ -241,13 +256,14 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         .unwrap_or(0)
         .max(8);
     let mut out = format!(
-        "{:<width$}  {:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>8}\n",
+        "{:<width$}  {:<8}  {:>4}  {:>7}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>8}\n",
         match group {
             Group::Family => "family",
             Group::Scenario => "scenario",
         },
         "policy",
         "runs",
+        "expect",
         "goal",
         "no_path",
         "aborted",
@@ -272,11 +288,16 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
             format!("{:.1}%", 100.0 * t.right as f64 / verdicts as f64)
         };
         let mistakes = format!("{}/{}", t.false_static, t.false_movable);
+        let expect = if t.expect_runs == 0 {
+            "-".to_string()
+        } else {
+            format!("{}/{}", t.expect_met, t.expect_runs)
+        };
         let contacts = t
             .people_contacts
             .map_or_else(|| "-".to_string(), |c| c.to_string());
         out.push_str(&format!(
-            "{scenario:<width$}  {policy:<8}  {:>4}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {contacts:>8}\n",
+            "{scenario:<width$}  {policy:<8}  {:>4}  {expect:>7}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {contacts:>8}\n",
             t.runs,
             t.goal,
             t.no_path,
@@ -312,6 +333,7 @@ mod tests {
             wall_time: 1.0,
             peak_force: 18.0,
             family: String::new(),
+            expect_met: Some(true),
             walked: 10.0,
             ideal_path: Some(8.0),
             spl: Some(0.8),
@@ -328,14 +350,19 @@ mod tests {
 
     #[test]
     fn the_table_rates_success_and_accuracy_per_scenario() {
-        // Invariant: success = goal runs / runs and accuracy = right / (right + wrong), per scenario.
-        let lines = [
+        // Invariant: success = goal runs / runs, accuracy = right / (right + wrong) and expect = runs that met their [expect] block / runs with one, per scenario.
+        let mut lines = [
             line("room", 1, "goal", 2, 0),
             line("room", 2, "no_path", 1, 1),
             line("hall", 1, "goal", 0, 0),
         ];
+        lines[1].expect_met = Some(false);
         let t = table(&lines, Group::Scenario);
         let room = t.lines().find(|l| l.starts_with("room")).expect("room row");
+        assert!(
+            room.contains(" 1/2 "),
+            "one of two runs met its [expect]: {room}"
+        );
         assert!(room.contains(" 50.0%"), "{room}");
         assert!(room.contains(" 75.0%"), "{room}");
         let hall = t.lines().find(|l| l.starts_with("hall")).expect("hall row");
