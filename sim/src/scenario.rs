@@ -10,6 +10,7 @@
 //! name = "kakiuchi-room"
 //! description = "The paper's room: a table and two chairs bar the way; one chair moves."
 //! seed = 1                           # default 1; the CLI may override it
+//! # family = "open-clutter"          # set by `nudge generate`; results are summed per family
 //!
 //! [room]
 //! size = [6.0, 3.6]                  # x, y (m), at most 100 m a side; walls all around
@@ -120,7 +121,7 @@ pub struct Scenario {
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSpec>,
     /// Things that move by themselves.
-    #[serde(default, rename = "actor")]
+    #[serde(default, rename = "actor", skip_serializing_if = "Vec::is_empty")]
     pub actors: Vec<ActorSpec>,
     /// What a correct run shows (used by tests and `nudge check`).
     #[serde(default)]

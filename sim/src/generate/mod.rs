@@ -137,6 +137,15 @@ pub fn generate_one(family: Family, seed: u64, index: usize) -> Result<Generated
         scenario.description = format!("{}: {guarantee}.", family.summary());
         scenario.seed = index as u64 + 1;
         scenario.expect = Some(guarantee.expect());
+        tidy(&mut scenario);
+        // Only what the scenario loader accepts is written: a draw it refuses is drawn again.
+        let written = to_toml(&Generated {
+            scenario: scenario.clone(),
+            guarantee: guarantee.clone(),
+        });
+        if !written.is_ok_and(|text| Scenario::from_toml_str(&text, "generated").is_ok()) {
+            continue;
+        }
         let holds = guarantee
             .holds(&scenario)
             .map_err(|source| GenerateError::World {
@@ -167,6 +176,24 @@ pub fn to_toml(generated: &Generated) -> Result<String, toml::ser::Error> {
         generated.scenario.family.as_deref().unwrap_or("-"),
         generated.guarantee
     ))
+}
+
+/// Rounds what a draw left long (sizes, masses, frictions) so files read well and a file read back
+/// is the scenario that was checked: millimetres, tens of grams, friction to 1e-4 (μ m g within
+/// 0.01 N of the drawn force for the heaviest box).
+fn tidy(scenario: &mut Scenario) {
+    // Dividing by the power of ten (not multiplying by its inverse) gives the double nearest the
+    // decimal, which TOML then writes as typed.
+    let round = |v: f64, per_unit: f64| (v * per_unit).round() / per_unit;
+    for o in &mut scenario.objects {
+        // Millimetres: a partition between two centimetre marks has its centre on a half centimetre.
+        for v in o.position.iter_mut().chain(o.size.iter_mut()) {
+            *v = round(*v, 1000.0);
+        }
+        o.elevation = round(o.elevation, 1000.0);
+        o.mass = round(o.mass, 100.0);
+        o.friction = round(o.friction, 1.0e4);
+    }
 }
 
 /// The ideal path's length in `scenario`'s true world at its start.
