@@ -145,6 +145,9 @@ pub struct PushPlan {
     pub path_after: Option<Path>,
     /// The path from the robot's position to the stand pose.
     pub approach: Path,
+    /// Where the push leaves the robot: the body walks after the object only as far as the arm's
+    /// reach falls short of the push.
+    pub end: Point2<f64>,
 }
 
 /// Why no push could be planned.
@@ -289,6 +292,7 @@ pub fn plan_push_over(
             opens_path: c.path_after.is_some(),
             path_after: c.path_after,
             approach,
+            end: follow_end(s, c.distance, config),
         });
     }
     // A reachable push refused only for unseen floor is what a look can change.
@@ -768,6 +772,7 @@ pub fn plan_of_swept(
         opens_path: false,
         path_after: None,
         approach,
+        end: push.end,
     })
 }
 

@@ -131,8 +131,9 @@ proptest! {
 
     #[test]
     fn push_plans_are_valid(rects in layout(), target in 0usize..25, seed in any::<u64>()) {
-        // Invariant: a push plan never puts the robot in an obstacle, never pushes the object into
-        // another obstacle or through a wall, and its paths are free.
+        // Invariant: a push plan never puts the robot in an obstacle (where it stands and where the
+        // push leaves it), never pushes the object into another obstacle or through a wall, and its
+        // paths are free.
         prop_assume!(!rects.is_empty());
         let v = world(&rects);
         let id = ObjectId((target % rects.len()) as u32 + 1);
@@ -157,7 +158,11 @@ proptest! {
         }
         prop_assert!(swept.footprint().iter().all(|p| v.walls().contains(p)));
         let after = v.with_moved(id, &offset).expect("moved");
-        prop_assert!(after.is_free(&(stand + offset)));
+        // The body walks after the object from the stand pose to where the push leaves it, along the
+        // push, and ends free of the object where it then stands.
+        prop_assert!(after.is_free(&plan.end));
+        prop_assert!((plan.end - stand).perp(&plan.direction).abs() < 1e-9);
+        prop_assert!((plan.end - stand).dot(&plan.direction) <= plan.distance + 1e-9);
         if let Some(path) = &plan.path_after {
             prop_assert!(path.is_free(&after));
         }
