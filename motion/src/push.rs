@@ -20,11 +20,12 @@ use crate::planner::rrt_connect::RrtConnect;
 use crate::planner::shortcut::Shortcut;
 use crate::planner::{Budget, Planner};
 use crate::problem::{GoalRegion, Problem};
-use crate::reach::certainly_unreachable;
+use crate::reach::{Change, ReachMemo, certainly_unreachable};
 use crate::seen_floor::FloorCheck;
 use crate::space::pose;
 use crate::sweep::sweep_blocked_among;
 use crate::validity::{StateValidity, Validity, ValidityError};
+use std::cell::RefCell;
 
 /// Where the hand can reach and what to try.
 #[derive(Clone, Debug, PartialEq)]
@@ -189,7 +190,7 @@ struct Stance {
 /// What every push of one object is checked against: the object, the other obstacles its sweep
 /// must keep clear of, the world with and without it, the goal and the planner's settings.
 #[derive(Clone, Copy)]
-struct PushScene<'a> {
+struct PushScene<'a, 'v> {
     object: &'a Obstacle,
     others: &'a [&'a Obstacle],
     validity: &'a Validity,
@@ -197,6 +198,9 @@ struct PushScene<'a> {
     goal: &'a GoalRegion,
     config: &'a PushConfig,
     floor: Option<FloorCheck<'a>>,
+    /// The flood fills' memo of `validity`: every push's "does it open the way" asks it again with
+    /// only the object moved.
+    reach: &'a RefCell<ReachMemo<'v>>,
 }
 
 /// Why a push was not taken.
@@ -277,7 +281,15 @@ pub fn plan_push_over(
     });
     let mut own = ChaCha8Rng::seed_from_u64(seed ^ 0xA5A5_A5A5);
     for c in candidates {
-        let Some(approach) = plan(validity, robot, &c.stance.stand, 0.0, config, &mut own) else {
+        let Some(approach) = plan(
+            validity,
+            robot,
+            &c.stance.stand,
+            0.0,
+            config,
+            None,
+            &mut own,
+        ) else {
             continue;
         };
         let s = &c.stance;
@@ -317,6 +329,7 @@ struct Around<'v> {
     object: Obstacle,
     others: Vec<&'v Obstacle>,
     without: Validity,
+    reach: RefCell<ReachMemo<'v>>,
 }
 
 impl<'v> Around<'v> {
@@ -330,6 +343,7 @@ impl<'v> Around<'v> {
             without: validity.without(&[object.id()]),
             object,
             others,
+            reach: RefCell::new(ReachMemo::new(validity)),
         }
     }
 
@@ -340,7 +354,7 @@ impl<'v> Around<'v> {
         goal: &'a GoalRegion,
         config: &'a PushConfig,
         floor: Option<FloorCheck<'a>>,
-    ) -> PushScene<'a> {
+    ) -> PushScene<'a, 'v> {
         PushScene {
             object: &self.object,
             others: &self.others,
@@ -349,6 +363,7 @@ impl<'v> Around<'v> {
             goal,
             config,
             floor,
+            reach: &self.reach,
         }
     }
 }
@@ -568,7 +583,7 @@ fn hand_line_clear(
 /// sweeps over unseen floor.
 fn valid_pushes(
     stance: &Stance,
-    scene: &PushScene<'_>,
+    scene: &PushScene<'_, '_>,
     rng: &mut ChaCha8Rng,
 ) -> Result<(Vec<Candidate>, bool), PushError> {
     let config = scene.config;
@@ -612,7 +627,7 @@ fn valid_pushes(
 fn push_of(
     stance: &Stance,
     distance: f64,
-    scene: &PushScene<'_>,
+    scene: &PushScene<'_, '_>,
     rng: &mut ChaCha8Rng,
 ) -> Result<Result<Candidate, Miss>, PushError> {
     let (offset, end) = match sweep_of(stance, distance, scene)? {
@@ -624,10 +639,23 @@ fn push_of(
         validity,
         goal,
         config,
+        reach,
         ..
     } = *scene;
     let after = validity.with_moved(object.id(), &offset)?;
-    let path_after = plan(&after, &end, &goal.centre(), goal.tolerance(), config, rng);
+    let moved = Change {
+        removed: &[],
+        moved: Some(object.id()),
+    };
+    let path_after = plan(
+        &after,
+        &end,
+        &goal.centre(),
+        goal.tolerance(),
+        config,
+        Some((reach, moved)),
+        rng,
+    );
     Ok(Ok(Candidate {
         stance: stance.clone(),
         distance,
@@ -645,7 +673,7 @@ type Swept = (Vector2<f64>, Point2<f64>);
 fn sweep_of(
     stance: &Stance,
     distance: f64,
-    scene: &PushScene<'_>,
+    scene: &PushScene<'_, '_>,
 ) -> Result<Result<Swept, Miss>, PushError> {
     let PushScene {
         object,
@@ -759,7 +787,7 @@ pub fn plan_of_swept(
     rng: &mut ChaCha8Rng,
 ) -> Option<PushPlan> {
     let s = &push.stance;
-    let approach = plan(validity, robot, &s.stand, 0.0, config, rng)?;
+    let approach = plan(validity, robot, &s.stand, 0.0, config, None, rng)?;
     let offset = push.offset();
     Some(PushPlan {
         object: push.object,
@@ -800,18 +828,28 @@ fn sweep_on_seen_floor(object: &Obstacle, swept: &Obstacle, floor: &FloorCheck<'
     })
 }
 
+/// A path in `validity` from `from` to within `tolerance` of `to`; `reach`, when given, is a flood
+/// fill memo of a world `validity` is a change of.
 fn plan(
     validity: &Validity,
     from: &Point2<f64>,
     to: &Point2<f64>,
     tolerance: f64,
     config: &PushConfig,
+    reach: Option<(&RefCell<ReachMemo<'_>>, Change<'_>)>,
     rng: &mut ChaCha8Rng,
 ) -> Option<Path> {
     let problem = Problem::new(*from, *to, tolerance).ok()?;
     // Most pushes tried do not open the way; proving that takes a flood fill, not a planner's
     // whole budget.
-    if certainly_unreachable(validity, from, problem.goal()) {
+    let unreachable = match reach {
+        Some((memo, change)) => {
+            memo.borrow_mut()
+                .certainly_unreachable(validity, change, from, problem.goal())
+        }
+        None => certainly_unreachable(validity, from, problem.goal()),
+    };
+    if unreachable {
         return None;
     }
     let mut planner = config.planner;

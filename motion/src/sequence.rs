@@ -33,7 +33,7 @@ use crate::problem::{GoalRegion, Problem};
 use crate::push::{
     PushConfig, PushError, PushPlan, SweptPush, plan_of_swept, plan_push_over, swept_pushes,
 };
-use crate::reach::certainly_unreachable;
+use crate::reach::{Change, ReachMemo, certainly_unreachable};
 use crate::seen_floor::FloorCheck;
 use crate::validity::Validity;
 
@@ -175,6 +175,7 @@ pub fn plan_sequence(
     prisms.extend(present.iter().copied().filter(|p| !crossed.contains(&p.id)));
     prisms.truncate(search.max_candidates);
     let mut records = Vec::new();
+    let mut memo = ReachMemo::new(validity);
     for a in &prisms {
         if first_only.is_some_and(|id| id != a.id) {
             continue;
@@ -193,6 +194,7 @@ pub fn plan_sequence(
                 search,
                 floor,
                 &mut firsts,
+                &mut memo,
                 &mut own,
             ) {
                 Ok(sequence) => return Ok(sequence),
@@ -221,9 +223,15 @@ fn try_pair(
     search: &SequenceConfig,
     floor: Option<FloorCheck<'_>>,
     firsts: &mut Option<Result<Vec<SweptPush>, PushError>>,
+    memo: &mut ReachMemo<'_>,
     rng: &mut ChaCha8Rng,
 ) -> Result<Sequence, PairMiss> {
-    if certainly_unreachable(&validity.without(&[a.id, b.id]), robot, goal) {
+    let both = [a.id, b.id];
+    let removed = Change {
+        removed: &both,
+        moved: None,
+    };
+    if memo.certainly_unreachable(&validity.without(&both), removed, robot, goal) {
         return Err(PairMiss::RemovalDoesNotOpen);
     }
     let pushes = firsts
@@ -255,7 +263,11 @@ fn try_pair(
         let Ok(after) = validity.with_moved(a.id, &push.offset()) else {
             continue;
         };
-        if certainly_unreachable(&after.without(&[b.id]), &push.end, goal) {
+        let moved = Change {
+            removed: &[b.id],
+            moved: Some(a.id),
+        };
+        if memo.certainly_unreachable(&after.without(&[b.id]), moved, &push.end, goal) {
             continue;
         }
         match plan_push_over(b, &after, &push.end, goal, &coarse, None, rng) {

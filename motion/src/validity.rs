@@ -246,6 +246,36 @@ impl Validity {
         })
     }
 
+    /// Like [`Validity::deeper_than`], saying which obstacle: one the robot standing at `p` overlaps by
+    /// more than `margin`, or `None`.
+    pub fn deeper_than_which(&self, p: &Point2<f64>, margin: f64) -> Option<ObjectId> {
+        let reach = self.robot.radius - margin;
+        if reach.is_nan() || reach <= 0.0 {
+            return None;
+        }
+        let mut found = None;
+        self.grid.any(&segment_box(p, p), |i| {
+            let hit = self.obstacles[i].distance_to_point(p) < reach;
+            if hit {
+                found = Some(self.obstacles[i].id());
+            }
+            hit
+        });
+        found
+    }
+
+    /// Whether the robot standing at `p` overlaps obstacle `id` alone by more than `margin`; false
+    /// when there is no such obstacle.
+    pub fn obstacle_deeper_than(&self, id: ObjectId, p: &Point2<f64>, margin: f64) -> bool {
+        let reach = self.robot.radius - margin;
+        if reach.is_nan() || reach <= 0.0 {
+            return false;
+        }
+        self.obstacle(id).is_some_and(|o| {
+            o.aabb().inflated(reach).overlaps(&segment_box(p, p)) && o.distance_to_point(p) < reach
+        })
+    }
+
     /// The blocking obstacles the robot standing at `p` overlaps, in the order they were given.
     pub fn colliding(&self, p: &Point2<f64>) -> Vec<ObjectId> {
         self.hits_along(p, p)
