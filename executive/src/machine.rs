@@ -121,6 +121,10 @@ pub enum Edge {
     NothingThere,
     /// PushTest → SelectCandidate: ambiguous twice, taken as static.
     AmbiguousTwice,
+    /// PushTest → SelectCandidate: the hand met nothing where the object was seen, again after a
+    /// second look: a push there tests empty space, so the object gets no verdict (static would be a
+    /// guess: nothing resisted) and is set aside as one no push reaches.
+    MissedTwice,
     /// ClearPath → LookAround: the object moved as planned.
     Cleared,
     /// ClearPath → LookAround: the object turned or slid off the push line so far that the rest of
@@ -150,7 +154,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 45] = [
+    pub const ALL: [Edge; 46] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -184,6 +188,7 @@ impl Edge {
         Edge::Retest,
         Edge::NothingThere,
         Edge::AmbiguousTwice,
+        Edge::MissedTwice,
         Edge::Cleared,
         Edge::OffLine,
         Edge::Jammed,
@@ -803,6 +808,15 @@ fn conclude_push_test(
                 vec![Command::LookAround],
                 Edge::NothingThere,
             )
+        }
+        Finding::Ambiguous(Ambiguity::NoContact)
+            if k.misses.get(&target).is_some_and(|n| *n > 0) =>
+        {
+            k.explanation.unpushable.insert(
+                target,
+                "the hand met nothing where it was seen, after a second look".into(),
+            );
+            select_candidate(k, config, Edge::MissedTwice)
         }
         Finding::Ambiguous(_) if attempt < 2 => {
             start_push_test(target, intent, attempt + 1, k, config, Edge::Retest)

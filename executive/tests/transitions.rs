@@ -427,15 +427,27 @@ cases! {
         s.edge
     }
     a_hand_that_meets_nothing_looks_again_once => {
-        // Invariant: a first test whose hand met nothing sends the robot to look again (once per object) instead of retesting at empty space; after that look a miss is retested as before.
+        // Invariant: a first test whose hand met nothing sends the robot to look again (once per object) instead of retesting at empty space.
         let mut missed = evidence(false, 0.0, 0.0);
         missed.contact = false;
         let k = Knowledge { push_tests: 1, ..Knowledge::default() };
         let s = run(push_test(CHAIR, 1), &k, Event::PushTestDone(missed.clone()));
         assert_eq!((s.state.clone(), s.commands.clone()), (State::LookAround, vec![Command::LookAround]));
         assert_eq!(s.knowledge.misses.get(&CHAIR), Some(&1));
-        let again = run(push_test(CHAIR, 1), &s.knowledge, Event::PushTestDone(missed));
-        assert_eq!(again.state, push_test(CHAIR, 2));
+        s.edge
+    }
+    a_test_that_meets_nothing_again_after_a_look_sets_the_object_aside_without_a_verdict => {
+        // Invariant: after the look, a test whose hand again met nothing gives no verdict (nothing resisted, so "static" would be a guess) and sets the object aside as unpushable, saying why; another ambiguity after the look is still retested.
+        let mut missed = evidence(false, 0.0, 0.0);
+        missed.contact = false;
+        let k = Knowledge { push_tests: 1, ..Knowledge::default() };
+        let looked = run(push_test(CHAIR, 1), &k, Event::PushTestDone(missed.clone())).knowledge;
+        let s = run(push_test(CHAIR, 1), &looked, Event::PushTestDone(missed));
+        assert_eq!(s.state, State::SelectCandidate);
+        assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), None);
+        assert!(s.knowledge.explanation.unpushable.get(&CHAIR).is_some_and(|why| why.contains("met nothing")));
+        let other = run(push_test(CHAIR, 1), &looked, Event::PushTestDone(evidence(false, 0.20, 0.05)));
+        assert_eq!(other.state, push_test(CHAIR, 2));
         s.edge
     }
     an_ambiguous_retest_is_static_and_says_so => {
