@@ -18,8 +18,9 @@ use crate::world::{World, WorldError};
 
 pub use families::Family;
 
-/// Draws per scenario before a family gives up: every family's guarantee holds on most draws (the
-/// test `generate_families` counts them), so running out means a broken family, not bad luck.
+/// Draws per scenario before a family gives up. A draw fails when its random layout breaks the
+/// family's guarantee (pieces that happen to shut the way) or the loader refuses it; that is the
+/// exception, so running out of 200 means a broken family, not bad luck.
 const DRAWS: usize = 200;
 
 /// What a generated scenario promises about its true world.

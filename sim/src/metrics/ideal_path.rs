@@ -13,9 +13,9 @@ use nalgebra::Point2;
 use crate::truth::{TrueClass, Truth};
 use crate::world::World;
 
-/// Grid cell of the search (m): a tenth of a step of the robot's walk, fine beside its 0.35 m
+/// Grid cell of the search (m): the planner's flood-fill cell, small beside the robot's 0.35 m
 /// radius, and coarse enough to search a 20 m flat in milliseconds.
-pub const CELL: f64 = 0.05;
+pub const CELL: f64 = nudge_motion::reach::REACH_CELL;
 
 /// The 16 moves: (dx, dy) in cells.
 const MOVES: [(i32, i32); 16] = [
@@ -48,7 +48,7 @@ pub fn ideal_path_length(
 ) -> Option<f64> {
     let grid = Clearance::of(world, radius);
     let start = grid.cell_of(start)?;
-    let goal_cells = |c: (i32, i32)| (grid.centre(c) - goal).norm() <= tolerance;
+    let goal_cells = |c: (i32, i32)| (centre(c) - goal).norm() <= tolerance;
     shortest(&grid, start, goal_cells)
 }
 
@@ -66,28 +66,27 @@ impl Clearance {
         let truth = Truth::new(world);
         let [w, h] = world.room_size();
         let (width, height) = ((w / CELL).ceil() as i32, (h / CELL).ceil() as i32);
-        let centre =
-            |x: i32, y: i32| Point2::new((f64::from(x) + 0.5) * CELL, (f64::from(y) + 0.5) * CELL);
         let blocked: Vec<bool> = (0..height)
             .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| truth.true_class_at(centre(x, y)) == TrueClass::Stationary)
+            .map(|(x, y)| truth.true_class_at(centre((x, y))) == TrueClass::Stationary)
             .collect();
         let reach = (radius / CELL).ceil() as i32;
         let mut free: Vec<bool> = (0..height)
             .flat_map(|y| (0..width).map(move |x| (x, y)))
             .map(|(x, y)| {
-                let c = centre(x, y);
+                let c = centre((x, y));
                 c.x >= radius && c.y >= radius && c.x <= w - radius && c.y <= h - radius
             })
             .collect();
+        // A blocked cell's centre within the radius plus half a cell's diagonal (the cell's own
+        // extent) of a centre takes that centre away; the offsets looked at reach `reach` cells each
+        // way, so along the axes the radius itself is the bound.
+        let limit = radius + CELL * std::f64::consts::FRAC_1_SQRT_2;
         for y in 0..height {
             for x in 0..width {
                 if !blocked[(y * width + x) as usize] {
                     continue;
                 }
-                // A blocked cell's centre within the radius (plus half a cell, the cell's own
-                // extent) of a centre takes that centre away.
-                let limit = radius + CELL * std::f64::consts::FRAC_1_SQRT_2;
                 for dy in -reach..=reach {
                     for dx in -reach..=reach {
                         let (nx, ny) = (x + dx, y + dy);
@@ -111,10 +110,6 @@ impl Clearance {
     fn cell_of(&self, p: Point2<f64>) -> Option<(i32, i32)> {
         let c = ((p.x / CELL).floor() as i32, (p.y / CELL).floor() as i32);
         self.inside(c).then_some(c)
-    }
-
-    fn centre(&self, (x, y): (i32, i32)) -> Point2<f64> {
-        Point2::new((f64::from(x) + 0.5) * CELL, (f64::from(y) + 0.5) * CELL)
     }
 
     fn inside(&self, (x, y): (i32, i32)) -> bool {
@@ -143,6 +138,11 @@ impl Clearance {
             _ => true,
         }
     }
+}
+
+/// The centre of cell `(x, y)` on the floor (m).
+fn centre((x, y): (i32, i32)) -> Point2<f64> {
+    Point2::new((f64::from(x) + 0.5) * CELL, (f64::from(y) + 0.5) * CELL)
 }
 
 /// Dijkstra from `start` (taken as free: the robot stands there) to the first cell `goal` accepts.
