@@ -296,6 +296,24 @@ impl Obstacle {
         ))
     }
 
+    /// Signed distance between two footprints (m): the gap when they are apart, minus how deep they
+    /// overlap when they do (the shortest translation that would part them).
+    pub fn signed_distance_to_obstacle(&self, other: &Obstacle) -> f64 {
+        let gap = self.distance_to_obstacle(other);
+        if gap > 0.0 {
+            return gap;
+        }
+        let offset = other.centre - self.centre;
+        let pos12 = Pose::from_translation(Vector::new(offset.x as f32, offset.y as f32));
+        parry2d::query::details::contact_support_map_support_map(
+            &pos12,
+            &self.shape,
+            &other.shape,
+            0.0,
+        )
+        .map_or(0.0, |c| f64::from(c.dist).min(0.0))
+    }
+
     /// Whether `p` lies inside the footprint or on its border.
     pub fn contains(&self, p: &Point2<f64>) -> bool {
         self.shape

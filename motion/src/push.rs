@@ -149,6 +149,9 @@ pub struct PushPlan {
     /// Where the push leaves the robot: the body walks after the object only as far as the arm's
     /// reach falls short of the push.
     pub end: Point2<f64>,
+    /// Whether a push of this object was refused only because it would sweep floor not yet seen:
+    /// when this push does not open the way, a look there (or a push into it) might.
+    pub unseen_refused: bool,
 }
 
 /// Why no push could be planned.
@@ -280,38 +283,71 @@ pub fn plan_push_over(
             .then(a.distance.total_cmp(&b.distance))
     });
     let mut own = ChaCha8Rng::seed_from_u64(seed ^ 0xA5A5_A5A5);
-    for c in candidates {
-        let Some(approach) = plan(
-            validity,
-            robot,
-            &c.stance.stand,
-            0.0,
-            config,
-            None,
-            &mut own,
-        ) else {
-            continue;
-        };
-        let s = &c.stance;
-        return Ok(PushPlan {
-            object: id,
-            stand_pose: pose(s.stand.x, s.stand.y, s.direction.y.atan2(s.direction.x)),
-            hand_height: s.hand_height,
-            direction: s.direction,
-            distance: c.distance,
-            contact_point: Point3::new(s.contact.x, s.contact.y, s.hand_height),
-            displaced_footprint: c.displaced,
-            opens_path: c.path_after.is_some(),
-            path_after: c.path_after,
-            approach,
-            end: follow_end(s, c.distance, config),
-        });
+    let first = reachable(candidates, validity, robot, config, &mut own);
+    if first.as_ref().is_some_and(|(c, _)| c.path_after.is_some()) {
+        return plan_of(id, first, unseen, config).ok_or(PushError::Unreachable(id));
     }
-    // A reachable push refused only for unseen floor is what a look can change.
-    Err(if unseen {
-        PushError::UnseenFloor(id)
-    } else {
-        PushError::Unreachable(id)
+    // No reachable push along a face's normal opens the way: push a little off the normals too. A
+    // face seen a few degrees off the way it must go (a box in a corridor whose hull leans 5°)
+    // drifts into the wall over a long push along its normal, not along the corridor.
+    let (tilted, unseen_tilted) =
+        tilted_stances(&around.object, prism, validity, config, floor.as_ref());
+    unseen |= unseen_tilted;
+    let mut openers = Vec::new();
+    for (k, stance) in tilted.iter().enumerate() {
+        let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add((stances.len() + k) as u64));
+        let (valid, unseen_sweep) = valid_pushes(stance, &scene, &mut own)?;
+        openers.extend(valid.into_iter().filter(|c| c.path_after.is_some()));
+        unseen |= unseen_sweep;
+    }
+    openers.sort_by(|a, b| a.distance.total_cmp(&b.distance));
+    let tilted_opener = reachable(openers, validity, robot, config, &mut own);
+    plan_of(id, tilted_opener.or(first), unseen, config).ok_or(
+        // A reachable push refused only for unseen floor is what a look can change.
+        if unseen {
+            PushError::UnseenFloor(id)
+        } else {
+            PushError::Unreachable(id)
+        },
+    )
+}
+
+/// The first of `candidates` whose stand pose the robot can reach from `robot`, with the way there.
+fn reachable(
+    candidates: Vec<Candidate>,
+    validity: &Validity,
+    robot: &Point2<f64>,
+    config: &PushConfig,
+    rng: &mut ChaCha8Rng,
+) -> Option<(Candidate, Path)> {
+    candidates.into_iter().find_map(|c| {
+        plan(validity, robot, &c.stance.stand, 0.0, config, None, rng).map(|path| (c, path))
+    })
+}
+
+/// The plan of a push of object `id` with its approach; `unseen` says whether some push was
+/// refused for floor not yet seen.
+fn plan_of(
+    id: ObjectId,
+    chosen: Option<(Candidate, Path)>,
+    unseen: bool,
+    config: &PushConfig,
+) -> Option<PushPlan> {
+    let (c, approach) = chosen?;
+    let s = &c.stance;
+    Some(PushPlan {
+        object: id,
+        stand_pose: pose(s.stand.x, s.stand.y, s.direction.y.atan2(s.direction.x)),
+        hand_height: s.hand_height,
+        direction: s.direction,
+        distance: c.distance,
+        contact_point: Point3::new(s.contact.x, s.contact.y, s.hand_height),
+        displaced_footprint: c.displaced,
+        opens_path: c.path_after.is_some(),
+        path_after: c.path_after,
+        approach,
+        end: follow_end(s, c.distance, config),
+        unseen_refused: unseen,
     })
 }
 
@@ -394,6 +430,39 @@ fn stances_of(
         })
         .collect();
     Ok((stances, unseen))
+}
+
+/// Angles (rad) by which a push may leave a face's normal, either way: within the hand's friction
+/// cone on the face, so the hand does not slip along it. A friction coefficient of 0.3 between hand
+/// and object (plastic on wood, the low end) gives a cone of 16.7° about the normal; half of it
+/// keeps a margin for the object turning as it slides.
+const FACE_TILTS: [f64; 2] = [0.07, 0.14];
+
+/// Stances for pushes [`FACE_TILTS`] off each pushable face's normal, either way, and whether one
+/// was refused for floor not yet seen.
+fn tilted_stances(
+    object: &Obstacle,
+    prism: &Prism,
+    validity: &Validity,
+    config: &PushConfig,
+    floor: Option<&FloorCheck<'_>>,
+) -> (Vec<Stance>, bool) {
+    let mut unseen = false;
+    let mut stances = Vec::new();
+    for face in pushable_faces(object, prism, config) {
+        for tilt in FACE_TILTS.iter().flat_map(|t| [*t, -*t]) {
+            let direction = nalgebra::Rotation2::new(tilt) * face.direction.into_inner();
+            let tilted = Face {
+                direction: Unit::new_normalize(direction),
+                ..face.clone()
+            };
+            match stance_for(&tilted, validity, config, floor) {
+                Ok(s) => stances.push(s),
+                Err(miss) => unseen |= matches!(miss, Miss::Unseen),
+            }
+        }
+    }
+    (stances, unseen)
 }
 
 /// A face of the footprint: its ends, inward push direction and the hand height on it.
@@ -801,6 +870,7 @@ pub fn plan_of_swept(
         path_after: None,
         approach,
         end: push.end,
+        unseen_refused: false,
     })
 }
 

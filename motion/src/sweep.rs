@@ -31,11 +31,12 @@ pub fn sweep_blocked_among(
         .iter()
         .filter(|o| o.id() != object.id() && o.heights_overlap(object))
         .find(|o| {
-            !sweep_keeps_clear(
-                o.distance_to_obstacle(object),
-                o.distance_to_obstacle(&swept),
-                clearance,
-            )
+            let start_gap = o.distance_to_obstacle(object);
+            if start_gap > 0.0 {
+                !sweep_keeps_clear(start_gap, o.distance_to_obstacle(&swept), clearance)
+            } else {
+                !parts_from(object, offset, o)
+            }
         });
     if let Some(o) = hit {
         return Ok(Some(SweepBlock::Obstacle(o.id())));
@@ -58,6 +59,29 @@ pub fn sweep_blocked(
         .filter(|o| o.id() != object.id())
         .collect();
     sweep_blocked_among(object, offset, &others, validity, clearance)
+}
+
+/// Whether translating `object` by `offset`, from where it touches or overlaps `other`, never takes
+/// it deeper into `other`. Perception's footprints of things a few centimetres apart (a box and a
+/// door jamb) may touch; such a push is fine as long as it leads away from, or along, the other.
+///
+/// The signed distance between two convex footprints is a convex function of the translation (it is
+/// the signed distance of a point to their Minkowski difference, a convex set), so if it does not
+/// fall over the first centimetre it never falls over the rest.
+fn parts_from(object: &Obstacle, offset: &Vector2<f64>, other: &Obstacle) -> bool {
+    /// A first step, short against any push, long against parry's f32 rounding.
+    const STEP: f64 = 0.01;
+    /// How much the signed distance may read lower after the step by rounding alone (m).
+    const ROUNDING: f64 = 1e-4;
+    let length = offset.norm();
+    if length <= 0.0 {
+        return true;
+    }
+    let Ok(stepped) = object.translated(&(offset * (STEP.min(length) / length))) else {
+        return false;
+    };
+    let before = object.signed_distance_to_obstacle(other);
+    stepped.signed_distance_to_obstacle(other) >= before - ROUNDING
 }
 
 /// Whether a sweep whose footprint lies `swept_gap` (m) from an obstacle, starting `start_gap` from it,
@@ -127,6 +151,40 @@ mod tests {
         assert_eq!(
             sweep_blocked(&object, &Vector2::new(5.0, 0.0), &alone, 0.05).expect("sweep"),
             Some(SweepBlock::Wall)
+        );
+    }
+
+    #[test]
+    fn a_box_whose_outline_touches_a_jamb_may_be_pushed_away_or_along_it_never_into_it() {
+        // Invariant: an object whose footprint already overlaps another's (perception joined a box and a door jamb a few centimetres apart) may be pushed where the overlap never deepens (away from the jamb, or along it) and is refused a push into it.
+        let object = square(1, 2.0, 1.5, 0.6);
+        // The jamb overlaps the box's north face by 2 cm.
+        let jamb = Obstacle::new(
+            ObjectId(2),
+            &[
+                Point2::new(1.9, 1.78),
+                Point2::new(2.1, 1.78),
+                Point2::new(2.1, 2.5),
+                Point2::new(1.9, 2.5),
+            ],
+            0.0,
+            2.0,
+        )
+        .expect("jamb");
+        assert!(object.signed_distance_to_obstacle(&jamb) < -0.015);
+        let world = room(vec![object.clone(), jamb]);
+        let push = |x: f64, y: f64| sweep_blocked(&object, &Vector2::new(x, y), &world, 0.05);
+        assert_eq!(push(1.0, 0.0).expect("east"), None, "along the jamb");
+        assert_eq!(push(0.0, -0.8).expect("south"), None, "away from it");
+        assert_eq!(
+            push(0.0, 0.5).expect("north"),
+            Some(SweepBlock::Obstacle(ObjectId(2))),
+            "into it"
+        );
+        assert_eq!(
+            push(0.5, 0.3).expect("north-east"),
+            Some(SweepBlock::Obstacle(ObjectId(2))),
+            "deeper first, clear later"
         );
     }
 }

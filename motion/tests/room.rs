@@ -261,7 +261,7 @@ impl nudge_motion::SeenFloor for SeenBut {
 
 #[test]
 fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
-    // Invariant: with the floor behind chair 1 unseen, its push is planned when that floor lies within the chair's own shadow, refused with UnseenFloor when the shadow is shorter than the sweep, and refused the same way when the robot would stand on unseen floor; with everything seen it is the plan made without a floor check.
+    // Invariant: with the floor behind chair 1 unseen, its push is planned when that floor lies within the chair's own shadow, refused with UnseenFloor when the shadow is shorter than the sweep, and refused the same way when the robot would stand on unseen floor; with floor unseen only farther on, a short push that does not open the way is planned and says a longer one was refused for unseen floor; with everything seen it is the plan made without a floor check.
     let (v, p) = common::room();
     let config = PushConfig::default();
     let chair = prism(CHAIR_1);
@@ -289,6 +289,12 @@ fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
         plan_with(&behind, 0.05),
         Err(nudge_motion::PushError::UnseenFloor(CHAIR_1))
     );
+    // The floor unseen only from 0.45 m beyond the chair's far face: the short pushes are planned,
+    // none opens the way, and the plan says a longer one was refused for unseen floor.
+    let farther = SeenBut(4.5, 0.0, 6.0, 3.6);
+    let short = plan_with(&farther, 0.05).expect("a short push");
+    assert!(!short.opens_path && short.unseen_refused, "{short:?}");
+    assert!(!unchecked.unseen_refused);
     // The floor in front of the chair, where the robot stands, is unseen.
     let front = SeenBut(2.5, 0.0, 3.5, 1.6);
     assert_eq!(

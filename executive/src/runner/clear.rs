@@ -6,7 +6,7 @@ use nalgebra::{Isometry2, Isometry3, Point2, Translation3, UnitQuaternion, Vecto
 use nudge_motion::{Obstacle, SweepBlock, Validity, sweep_blocked};
 use nudge_perception::{ColourCloud, ObjectId, Prism};
 
-use super::push::icp_pose;
+use super::push::{Approach, icp_pose};
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::PushIntent;
@@ -210,7 +210,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 break;
             }
             let limit = self.config.executive.clear_force_limit;
-            let stroke = self.stroke(from_x, to_x, y, intent.hand_height, limit)?;
+            // The object was measured where the last stroke left it, or planned from a look; it may
+            // have turned nearer since (a chair caught on a jamb swings a corner towards the hand).
+            let approach = Approach::GuardedLast(motion.approach_gap);
+            let stroke = self.stroke(from_x, to_x, y, intent.hand_height, limit, approach)?;
             peak = peak.max(stroke.peak_force);
             self.retract()?;
             if let HandOutcome::ForceLimit { .. } = stroke.outcome {

@@ -17,6 +17,14 @@ pub struct PushMotionConfig {
     /// Hand speed along the push (m/s). Slow, as a guarded move must be: the impact at first contact
     /// grows with speed and must stay well under the force limit.
     pub speed: f64,
+    /// Hand speed (m/s) of a guarded approach to a stroke's start where the look does not show the
+    /// way there clear. A guarded move's force rises by the wrist's stiffness × speed per control
+    /// period once it touches, and its damping adds damping × speed at the touch: at 5 cm/s, with
+    /// the paper's 1 kHz loop and a wrist of 20 kN/m damped at 200 N·s/m, 1 N per period on top of
+    /// 10 N, so the guard stops it within the 10 % the force limit allows. Faster than the push (a
+    /// long way round at 2 cm/s would cost many seconds); far slower than the free 0.2 m/s, at which
+    /// a touch reads 40 N at once.
+    pub approach_speed: f64,
     /// The hand starts this far before the expected contact (m).
     pub approach_gap: f64,
     /// A push test pushes this far past the expected contact (m).
@@ -35,6 +43,7 @@ impl Default for PushMotionConfig {
     fn default() -> Self {
         Self {
             speed: 0.02,
+            approach_speed: 0.05,
             approach_gap: 0.08,
             test_travel: 0.15,
             contact_threshold: 2.0,
@@ -212,6 +221,22 @@ pub struct RunConfig {
 }
 
 impl RunConfig {
+    /// Height (m) of the highest point a look-around shows at horizontal distance `d` from the eye:
+    /// where the top ray of its least tilted view passes (`eye − d · tan(min tilt − v_fov/2)`). A
+    /// surface whose top lies below this was seen whole in height; a wall's top never is.
+    pub fn top_in_view(&self, d: f64) -> f64 {
+        let camera = &self.view.camera;
+        let min_tilt = self
+            .perception
+            .look_around
+            .tilts_deg
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            .to_radians();
+        camera.eye_height - d * (min_tilt - camera.v_fov / 2.0).tan()
+    }
+
     /// The floor a look-around shows from where the robot stands: the head's camera through the
     /// look-around's views ([`LookCoverage::from_camera`]); the paper's SR-4000 on HRP-2 when the
     /// camera or the views make no sense.

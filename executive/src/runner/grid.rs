@@ -244,6 +244,27 @@ fn footprint_box(
     Some((a.y..=b.y).flat_map(move |y| (a.x..=b.x).map(move |x| CellIndex::new(x, y))))
 }
 
+/// The cells an obstacle that was pushed away from `before` leaves behind: those its footprint
+/// overlaps and those within [`EDGE_CELLS`] of it (its own returns, see [`stationary_obstacles`]),
+/// except where another obstacle of `prisms` stands. Left in the grid, the edge cells would be
+/// unexplained Stationary cells where the object no longer stands: a wall in front of the robot's
+/// next stand pose that the near field under its camera never shows free again.
+fn cells_left_behind(geometry: &GridGeometry, before: &Prism, prisms: &[Prism]) -> Vec<CellIndex> {
+    let half = geometry.resolution() / 2.0;
+    let Some(cells) = footprint_box(geometry, before, EDGE_CELLS + 1.0) else {
+        return Vec::new();
+    };
+    cells
+        .filter(|&c| {
+            let centre = geometry.centre(c);
+            overlaps_cell(before, centre, half + EDGE_CELLS * 2.0 * half)
+                && !prisms
+                    .iter()
+                    .any(|p| p.id != before.id && overlaps_cell(p, centre, half))
+        })
+        .collect()
+}
+
 /// Whether the square cell of side `2 half` around `centre` overlaps `prism`'s convex footprint
 /// (separating axes: the square's two and the footprint's edge normals).
 pub(crate) fn overlaps_cell(prism: &Prism, centre: Point2<f64>, half: f64) -> bool {
@@ -483,9 +504,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 return;
             }
         }
+        let left = cells_left_behind(grid.geometry(), &before, &self.world.prisms);
         let moved = grid.object_moved(
             id,
-            Footprint::Polygon(&before.footprint),
+            Footprint::Cells(&left),
             Footprint::Polygon(&after.footprint),
             stamp,
         );
@@ -586,5 +608,22 @@ mod tests {
             movable_share(vec![(Unknown, false), (Free, false)].into_iter()),
             0.0
         );
+    }
+
+    #[test]
+    fn a_pushed_obstacle_leaves_its_edge_cells_behind_but_not_its_neighbours() {
+        // Invariant: the cells a pushed obstacle frees are those under its old footprint and its own returns up to two cells outside it (the cells stationary_obstacles credits to it), and never a cell under another obstacle standing beside it.
+        let geometry = GridGeometry::new(Point2::new(0.0, 0.0), [4.0, 4.0], 0.05).expect("grid");
+        let chair = super::super::world::tests::box_prism(1, (1.0, 1.0, 1.5, 1.5), 0.8);
+        let wall = super::super::world::tests::box_prism(2, (1.55, 0.0, 1.65, 4.0), 2.0);
+        let left = cells_left_behind(&geometry, &chair, &[chair.clone(), wall.clone()]);
+        let has = |x: f64, y: f64| {
+            let cell = geometry.cell_of(Point2::new(x, y)).expect("in the grid");
+            left.contains(&cell)
+        };
+        assert!(has(1.25, 1.25), "under the footprint");
+        assert!(has(0.93, 1.25), "a leg's return a cell and a half outside");
+        assert!(!has(0.8, 1.25), "four cells outside");
+        assert!(!has(1.58, 1.25), "under the wall beside it");
     }
 }

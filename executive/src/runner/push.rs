@@ -20,6 +20,29 @@ use crate::record::{LogLevel, Observer};
 use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
 use crate::state::Purpose;
 
+/// How the hand gets to a stroke's line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Approach {
+    /// At the arm's free speed: the look showed the way clear.
+    Free,
+    /// At the free speed to this far (m) short of the line's start along the line, then guarded at
+    /// the approach speed: the object is known to lie ahead, but may have turned nearer since it
+    /// was measured.
+    GuardedLast(f64),
+    /// Along a guarded move at the approach speed from where the hand is: the way is not known
+    /// clear.
+    Guarded,
+}
+
+/// What a stroke's guarded moves recorded: the force trace, the hand's positions and the first
+/// contact.
+#[derive(Default)]
+struct StrokeLog {
+    trace: Vec<(f64, f64)>,
+    hand: Vec<Stamped<Point3<f64>>>,
+    contact_stamp: Option<f64>,
+}
+
 /// What one guarded stroke measured.
 pub(super) struct Stroke {
     pub(super) outcome: HandOutcome,
@@ -138,11 +161,18 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                         &mut self.rng,
                     );
                     let plan = match &found {
-                        Ok(sequence) => sequence.first.clone(),
-                        Err(_) => single,
+                        Ok(sequence) => Ok(sequence.first.clone()),
+                        // A push that does not open the way, where a longer one was refused only
+                        // for floor not yet seen: look there first (or, with nothing to look
+                        // from, push into it), rather than push short and look again.
+                        Err(_) if single.unseen_refused => {
+                            unseen = true;
+                            Err(PushError::UnseenFloor(target))
+                        }
+                        Err(_) => Ok(single),
                     };
                     searched = Some(found);
-                    Ok(plan)
+                    plan
                 }
                 other => other,
             };
@@ -242,9 +272,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     fn run_push_test(&mut self, intent: &PushIntent) -> Result<PushEvidence, Interrupt> {
         let motion = self.config.push_motion.clone();
         let prism = self.prism(intent.target).cloned();
-        let before = match &prism {
-            Some(p) => Some(self.object_points(p, Vector2::zeros())?),
+        let view = match &prism {
+            Some(p) => Some(self.look_at_object(p, Vector2::zeros())?),
             None => None,
+        };
+        let before = match (&prism, &view) {
+            (Some(p), Some(view)) => Some(crop(view, p, Vector2::zeros(), motion.crop_margin)),
+            _ => None,
         };
         let planned = self.contact_in_base(intent)?;
         // The object's face on the hand's line as the look just taken shows it, where that is well
@@ -255,18 +289,56 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Some(cloud) => {
                 let base = self.robot.base_pose()?.value;
                 let half = self.config.push.hand_half_width;
-                face_on_line(cloud, &base, planned.y, intent.hand_height, half)
+                face_on_line(cloud, &base, planned.y, intent.hand_height, half, 0.0)
             }
             None => None,
         };
-        // The approach gap absorbs a face up to half of it nearer than planned (perception's few
-        // centimetres); only a face nearer than that moves the stroke's start.
-        let nearer = seen.filter(|x| *x < planned.x - motion.approach_gap / 2.0);
-        let contact = Point2::new(nearer.unwrap_or(planned.x), planned.y);
-        let from_x = (contact.x - motion.approach_gap).max(motion.near);
+        // The approach gap absorbs a face up to half of it off the plan (perception's few
+        // centimetres); only a face farther off than that moves the stroke: nearer, its start; farther
+        // (an object a test before this one slid away), its start and end, or the stroke would end
+        // where the hand first touches.
+        let moved = seen.filter(|x| (x - planned.x).abs() > motion.approach_gap / 2.0);
+        // No farther than the arm reaches with the approach gap before it: an object that slid out
+        // of reach is touched, if at all, at the end of the arm's travel.
+        let within_reach = motion.reach - motion.approach_gap;
+        let contact = Point2::new(
+            moved.unwrap_or(planned.x).min(within_reach.max(planned.x)),
+            planned.y,
+        );
+        // The hand goes to the line's start at its free speed, unguarded in effect: what it meets on
+        // the way it strikes at that speed (the wrist's damping alone reads 40 N at 0.2 m/s). So the
+        // line starts short of anything the look shows on the hand's way, the object's face as
+        // perceived or not (a face beyond the crop around a hull seen in part).
+        let first_in_way = match &view {
+            Some(cloud) => {
+                let base = self.robot.base_pose()?.value;
+                let half = self.config.push.hand_half_width + HAND_WAY_MARGIN;
+                // Nearer than the hand ever comes are the robot's own arm and hand.
+                face_on_line(
+                    cloud,
+                    &base,
+                    planned.y,
+                    intent.hand_height,
+                    half,
+                    motion.near,
+                )
+            }
+            None => None,
+        };
+        let from_x = (contact.x.min(first_in_way.unwrap_or(f64::INFINITY)) - motion.approach_gap)
+            .max(motion.near);
+        // The way to the line's start is known clear where the look shows the object's face on the
+        // line and nothing nearer than the stroke starts; else the hand gets there guarded.
+        let clear =
+            seen.is_some() && first_in_way.is_some_and(|x| x >= from_x + motion.approach_gap / 2.0);
+        let approach = if clear {
+            Approach::Free
+        } else {
+            Approach::Guarded
+        };
         let to_x = (contact.x + motion.test_travel).min(motion.reach);
         let limit = self.config.executive.force_limit;
-        let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height, limit)?;
+        let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height, limit, approach)?;
         if stroke.contact {
             let base = self.robot.base_pose()?.value;
             self.world.touched = Some((intent.target, base * Point2::new(stroke.end_x, contact.y)));
@@ -311,8 +383,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         Ok(())
     }
 
-    /// One guarded stroke along `base_link` x at lateral offset `y` and height `z` that stops at
-    /// `force_limit`, watching the wrist.
+    /// One stroke of the hand along its line at height `z`, `y` to the side, from `from_x` to `to_x`
+    /// (`base_link`, m) at the push speed, guarded by `force_limit`. The hand gets to the line's
+    /// start at its free speed, or, as `approach` says, the last of the way or all of it along a
+    /// guarded move at the approach speed: what the hand met at its free speed it would strike hard.
+    /// A stroke that reaches the limit on the way ends there.
     pub(super) fn stroke(
         &mut self,
         from_x: f64,
@@ -320,6 +395,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         y: f64,
         z: f64,
         force_limit: f64,
+        approach: Approach,
     ) -> Result<Stroke, Interrupt> {
         let motion = self.config.push_motion.clone();
         // The plan puts the hand anywhere within the arm's sideways reach, its edges included; a walk
@@ -328,30 +404,30 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let y = clamp_lateral(y, self.config.push.reach_y);
         self.robot.tare()?;
         self.robot.drain_wrenches()?;
-        self.robot.start_guarded_move(GuardedMove {
-            from: Point3::new(from_x, y, z),
-            to: Point3::new(to_x.max(from_x), y, z),
-            speed: motion.speed,
-            force_limit,
-        })?;
-        let mut trace = Vec::new();
-        let mut hand: Vec<Stamped<Point3<f64>>> = Vec::new();
-        let mut contact_stamp: Option<f64> = None;
-        let outcome = loop {
-            let status = self.robot.hand_status()?;
-            hand.push(self.robot.hand_position()?);
-            for sample in self.robot.drain_wrenches()? {
-                self.record_wrench(&sample, &mut trace);
-                let f = sample.value.force_norm();
-                if contact_stamp.is_none() && f >= motion.contact_threshold {
-                    contact_stamp = Some(sample.stamp);
-                }
+        let start = Point3::new(from_x, y, z);
+        let mut log = StrokeLog::default();
+        let mut outcome = HandOutcome::Reached;
+        let guarded_from = match approach {
+            Approach::Free => None,
+            // From where the hand is (no nearer the body than a stroke ever starts).
+            Approach::Guarded => {
+                let here = self.robot.hand_position()?.value;
+                Some(Point3::new(here.x.max(motion.near), here.y, here.z))
             }
-            if let crate::robot::ActionStatus::Done(outcome) = status {
-                break outcome;
-            }
-            self.tick()?;
+            Approach::GuardedLast(d) => Some(Point3::new((from_x - d).max(motion.near), y, z)),
         };
+        if let Some(from) = guarded_from.filter(|p| (start - p).norm() > 1e-3) {
+            outcome = self.guarded(from, start, motion.approach_speed, force_limit, &mut log)?;
+        }
+        if !matches!(outcome, HandOutcome::ForceLimit { .. }) {
+            let end = Point3::new(to_x.max(from_x), y, z);
+            outcome = self.guarded(start, end, motion.speed, force_limit, &mut log)?;
+        }
+        let StrokeLog {
+            trace,
+            hand,
+            contact_stamp,
+        } = log;
         let end_x = hand.last().map_or(from_x, |h| h.value.x);
         let travel_after_contact = contact_stamp.map_or(0.0, |t| {
             let at_contact = hand
@@ -373,6 +449,40 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         })
     }
 
+    /// One guarded move of the hand from `from` to `to` (`base_link`, m) at `speed`, logged into
+    /// `log`; its outcome.
+    fn guarded(
+        &mut self,
+        from: Point3<f64>,
+        to: Point3<f64>,
+        speed: f64,
+        force_limit: f64,
+        log: &mut StrokeLog,
+    ) -> Result<HandOutcome, Interrupt> {
+        let threshold = self.config.push_motion.contact_threshold;
+        self.robot.start_guarded_move(GuardedMove {
+            from,
+            to,
+            speed,
+            force_limit,
+        })?;
+        loop {
+            let status = self.robot.hand_status()?;
+            log.hand.push(self.robot.hand_position()?);
+            for sample in self.robot.drain_wrenches()? {
+                self.record_wrench(&sample, &mut log.trace);
+                let f = sample.value.force_norm();
+                if log.contact_stamp.is_none() && f >= threshold {
+                    log.contact_stamp = Some(sample.stamp);
+                }
+            }
+            if let crate::robot::ActionStatus::Done(outcome) = status {
+                return Ok(outcome);
+            }
+            self.tick()?;
+        }
+    }
+
     fn record_wrench(&mut self, sample: &Stamped<Wrench>, trace: &mut Vec<(f64, f64)>) {
         self.observer.wrench(sample.stamp, &sample.value);
         trace.push((sample.stamp, sample.value.force_norm()));
@@ -380,6 +490,21 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// Looks at `prism` (moved by `shift`) and returns its points in the map frame.
     pub(super) fn object_points(
+        &mut self,
+        prism: &Prism,
+        shift: Vector2<f64>,
+    ) -> Result<ColourCloud, Interrupt> {
+        let view = self.look_at_object(prism, shift)?;
+        Ok(crop(
+            &view,
+            prism,
+            shift,
+            self.config.push_motion.crop_margin,
+        ))
+    }
+
+    /// Looks at `prism` (moved by `shift`) and returns the whole view in the map frame.
+    pub(super) fn look_at_object(
         &mut self,
         prism: &Prism,
         shift: Vector2<f64>,
@@ -394,19 +519,26 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let rel = centre - base.translation.vector;
         let pan = wrap(rel.y.atan2(rel.x) - base.rotation.angle());
         let aim_z = 0.5 * (prism.z_min + prism.z_max);
-        let eye = self.config.view.camera.eye_height;
-        let tilt = (eye - aim_z).atan2(rel.norm().max(0.1));
+        let camera = &self.config.view.camera;
+        let eye = camera.eye_height;
+        let at_middle = (eye - aim_z).atan2(rel.norm().max(0.1));
+        // Tilted no further down than keeps the top of the nearest face in view: the hand pushes just
+        // below it, and the stroke's way there is judged from this look.
+        let nearest = prism
+            .footprint
+            .iter()
+            .map(|p| (p.coords + shift - base.translation.vector).norm())
+            .fold(f64::INFINITY, f64::min)
+            .max(0.1);
+        let top_in_view =
+            (eye - prism.z_max).atan2(nearest) + camera.v_fov / 2.0 - TOP_IN_VIEW_MARGIN;
+        let tilt = at_middle.min(top_in_view);
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;
         let cloud = self.robot.capture()?;
         self.observer.cloud(&cloud);
         self.sense(&cloud, false);
-        Ok(crop(
-            &cloud.to_map(),
-            prism,
-            shift,
-            self.config.push_motion.crop_margin,
-        ))
+        Ok(cloud.to_map())
     }
 }
 
@@ -473,22 +605,31 @@ pub(super) fn icp_pose(
 
 /// The nearest point (`base_link` x) of `cloud` (map frame) on the hand's line at lateral offset `y`
 /// and height `z`: within `half` (m) of it sideways and in height, the hand's face being a square of
-/// that half side. `None` when no point lies ahead on the line.
+/// that half side, and farther than `beyond` (m) ahead. `None` when no such point lies on the line.
 fn face_on_line(
     cloud: &ColourCloud,
     base: &nalgebra::Isometry2<f64>,
     y: f64,
     z: f64,
     half: f64,
+    beyond: f64,
 ) -> Option<f64> {
     cloud
         .iter_valid()
         .filter(|(_, p, _)| (f64::from(p.z) - z).abs() <= half)
         .map(|(_, p, _)| base.inverse_transform_point(&Point2::new(f64::from(p.x), f64::from(p.y))))
-        .filter(|q| q.x > 0.0 && (q.y - y).abs() <= half)
+        .filter(|q| q.x > beyond && (q.y - y).abs() <= half)
         .map(|q| q.x)
         .min_by(f64::total_cmp)
 }
+
+/// How far inside the field of view's upper edge (rad) a look at an object keeps the top of its
+/// nearest face: the head's pointing error and a row or two of pixels.
+const TOP_IN_VIEW_MARGIN: f64 = 0.035;
+
+/// Sideways margin (m) added to the hand's half width when looking for what lies on its way: the
+/// range noise (about a centimetre) and a little more.
+const HAND_WAY_MARGIN: f64 = 0.02;
 
 /// How far outside the arm's sideways reach (m) a stroke's line is moved back to its edge: the error
 /// of a walk to a stand pose, not a plan that asked for more than the arm can do.
@@ -572,9 +713,9 @@ mod tests {
         cloud.push(at(0.30, 0.20, 0.45), [1, 2, 3]);
         cloud.push(at(0.30, 0.0, 0.70), [1, 2, 3]);
         cloud.push(at(-0.20, 0.0, 0.45), [1, 2, 3]);
-        let x = face_on_line(&cloud, &base, 0.0, 0.45, 0.05).expect("a face on the line");
+        let x = face_on_line(&cloud, &base, 0.0, 0.45, 0.05, 0.0).expect("a face on the line");
         assert!((x - 0.47).abs() < 1e-5, "{x}");
-        assert!(face_on_line(&cloud, &base, -0.3, 0.45, 0.05).is_none());
+        assert!(face_on_line(&cloud, &base, -0.3, 0.45, 0.05, 0.0).is_none());
     }
 
     #[test]

@@ -354,16 +354,72 @@ impl WorldModel {
         self.moved.insert(id);
     }
 
-    /// Whether `prism` lies at the edge of everything seen: a wall, not an object to push.
+    /// Whether `prism` is room structure, not an object to push: it lies at the edge of everything
+    /// seen, and it is not merely the farthest low thing seen in some direction.
     pub fn is_structure(&self, prism: &Prism, config: &RunConfig) -> bool {
         let Some((lo, hi)) = self.seen else {
             return false;
         };
         let m = config.structure_margin;
-        prism
-            .footprint
-            .iter()
-            .any(|p| p.x < lo.x + m || p.y < lo.y + m || p.x > hi.x - m || p.y > hi.y - m)
+        let (plo, phi) = footprint_box(prism);
+        let on_edge = |side: &Side| {
+            let axis = side.axis;
+            if side.outward {
+                phi[axis] > hi[axis] - m
+            } else {
+                plo[axis] < lo[axis] + m
+            }
+        };
+        let edges: Vec<Side> = Side::ALL.into_iter().filter(on_edge).collect();
+        if edges.is_empty() {
+            return false;
+        }
+        // A wall's top is never in view, and nothing is seen beyond it. A thing whose top was in view
+        // and with nothing seen beyond it on an edge is only the farthest thing seen so far in that
+        // direction (a box across a corridor, seen from its far end): walking up would show what
+        // lies behind it, so it is a candidate like any other. A low thing against a wall has the
+        // wall's prism beyond it, and stays structure.
+        let frontier = edges.iter().any(|side| !self.anything_beyond(prism, side));
+        !(frontier && self.top_seen(prism, config))
+    }
+
+    /// Whether another obstacle reaches farther out than `prism` on `side` along the stretch the
+    /// prism spans: a wall behind a cabinet.
+    fn anything_beyond(&self, prism: &Prism, side: &Side) -> bool {
+        let (plo, phi) = footprint_box(prism);
+        let (axis, across) = (side.axis, 1 - side.axis);
+        self.prisms.iter().filter(|q| q.id != prism.id).any(|q| {
+            let (qlo, qhi) = footprint_box(q);
+            let overlaps = qlo[across] < phi[across] && qhi[across] > plo[across];
+            let farther = if side.outward {
+                qhi[axis] > phi[axis]
+            } else {
+                qlo[axis] < plo[axis]
+            };
+            overlaps && farther
+        })
+    }
+
+    /// Whether the top of `prism` was in view from every place a look showed it from, with a margin
+    /// for the elevation cells' size and the range noise: its top is a top, not where the views
+    /// ended. The farthest place counts, where the view's top passes lowest: a wall seen from near
+    /// and far reads as high as the near view shows, well above the far view's top. Not known to
+    /// have been seen by a look: no.
+    fn top_seen(&self, prism: &Prism, config: &RunConfig) -> bool {
+        /// Elevation cells are 4 cm and the range noise about a centimetre: a surface cut by the
+        /// view's top ray reads up to this far below it.
+        const TOP_MARGIN: f64 = 0.1;
+        let far_side = |look: &Point2<f64>| {
+            prism
+                .footprint
+                .iter()
+                .map(|v| (v - look).norm())
+                .fold(0.0, f64::max)
+        };
+        self.seen_from
+            .get(&prism.id)
+            .and_then(|places| places.iter().map(far_side).max_by(f64::total_cmp))
+            .is_some_and(|d| prism.z_max + TOP_MARGIN < config.top_in_view(d))
     }
 
     /// How far behind `prism` its own shadow reaches on the floor (m), as seen from the look nearest
@@ -407,6 +463,36 @@ pub(super) const SAME_PLACE: f64 = 0.05;
 fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
     let inner = radius * 0.5;
     prism.contains_xy(centre) || prism.footprint.iter().any(|v| (v - centre).norm() < inner)
+}
+
+/// One side of an axis-aligned box: the axis across it (0: x, 1: y) and whether it faces the
+/// positive direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Side {
+    axis: usize,
+    outward: bool,
+}
+
+impl Side {
+    /// -x, -y, +x, +y.
+    const ALL: [Side; 4] = [
+        Side {
+            axis: 0,
+            outward: false,
+        },
+        Side {
+            axis: 1,
+            outward: false,
+        },
+        Side {
+            axis: 0,
+            outward: true,
+        },
+        Side {
+            axis: 1,
+            outward: true,
+        },
+    ];
 }
 
 /// Corners of the box around `prism`'s footprint.
@@ -765,5 +851,45 @@ pub(super) mod tests {
         assert_eq!(world.prisms[0].id, ObjectId(1));
         assert!(world.prisms[0].contains_xy(&Point2::new(3.3, 2.0)));
         assert_eq!(world.joined.get(&ObjectId(36)), Some(&ObjectId(1)));
+    }
+
+    /// A world seen out to the box (0, 0)–(6, 3), holding `prisms`, each shown by a look from (1, 1).
+    fn seen_world(prisms: Vec<Prism>) -> WorldModel {
+        WorldModel {
+            seen: Some((Point2::new(0.0, 0.0), Point2::new(6.0, 3.0))),
+            looks: vec![Point2::new(1.0, 1.0)],
+            seen_from: prisms
+                .iter()
+                .map(|p| (p.id, vec![Point2::new(1.0, 1.0)]))
+                .collect(),
+            prisms,
+            ..WorldModel::default()
+        }
+    }
+
+    #[test]
+    fn a_low_box_that_is_the_farthest_thing_seen_is_no_wall_but_a_wall_and_what_stands_against_it_are()
+     {
+        // Invariant: at the edge of everything seen, a wall (its top out of view) and a low cabinet with the wall's obstacle behind it are structure, never push candidates; a low box whose top was in view with nothing seen beyond it (a box across a corridor, seen from its far end) is a candidate; anything away from the edge is never structure.
+        let config = config_to(Point2::new(5.0, 1.0));
+        // The wall's top: the view's top ray 5 m away passes 1.4 − 5 · tan 2.7° ≈ 1.16 m up.
+        let wall = box_prism(1, (0.0, -0.02, 6.0, 0.03), 1.15);
+        let cabinet = box_prism(2, (2.0, 0.06, 2.9, 0.5), 0.8);
+        let far_box = box_prism(3, (5.9, 1.0, 6.0, 2.0), 0.7);
+        let middle = box_prism(4, (3.0, 1.2, 3.5, 1.8), 0.7);
+        let world = seen_world(vec![
+            wall.clone(),
+            cabinet.clone(),
+            far_box.clone(),
+            middle.clone(),
+        ]);
+        assert!(world.is_structure(&wall, &config));
+        assert!(world.is_structure(&cabinet, &config));
+        assert!(!world.is_structure(&far_box, &config));
+        assert!(!world.is_structure(&middle, &config));
+        // The same box, as tall as the view's top where it stands: it may be a wall.
+        let tall = box_prism(3, (5.9, 1.0, 6.0, 2.0), 1.2);
+        let world = seen_world(vec![wall, cabinet, tall.clone(), middle]);
+        assert!(world.is_structure(&tall, &config));
     }
 }

@@ -1,4 +1,4 @@
-//! `nudge check`: run scenarios and compare each with its `[expect]` block.
+//! `nudge check`: run scenarios and compare each with its `[expect]` block and the force limits.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -8,6 +8,11 @@ use nudge_sim::score::{Outcome, compare};
 use super::pool::{Cancel, Done, Job, run_all};
 use super::source::{Source, expand};
 use super::{CheckArgs, EXIT_FAILED};
+
+/// How far over the force limit in force (a push test's, a clearing stroke's) the hand may press,
+/// as a share of it: the guard stops a move within one control period of the limit, and what the
+/// force rises in that period is the tolerance (10 %), not an impact at speed.
+const FORCE_TOLERANCE: f64 = 1.1;
 
 /// What one scenario's check came to.
 enum Row {
@@ -104,10 +109,16 @@ fn row(job: &Job<'_>, done: &Done) -> Row {
     let Some(expect) = &job.scenario.expect else {
         return Row::NoExpect { summary };
     };
-    let differences: Vec<String> = compare(expect, outcome, &done.scored)
+    let mut differences: Vec<String> = compare(expect, outcome, &done.scored)
         .iter()
         .map(ToString::to_string)
         .collect();
+    if let Some(share) = done.force_share.filter(|s| *s > FORCE_TOLERANCE) {
+        differences.push(format!(
+            "the hand pressed {:.0} % over the force limit in force",
+            (share - 1.0) * 100.0
+        ));
+    }
     if differences.is_empty() {
         Row::Pass { summary }
     } else {

@@ -40,7 +40,8 @@ pub struct Cli {
 enum Command {
     /// Run one scenario (the paper's room when none is given) and print its timeline and summary.
     Run(RunArgs),
-    /// Run scenarios and compare each with its `[expect]` block; exit 5 when any differs.
+    /// Run scenarios and compare each with its `[expect]` block (and the force limits: no push more
+    /// than 10 % over its limit); exit 5 when any differs.
     Check(CheckArgs),
     /// Run every scenario of a folder with many seeds in parallel; one JSON line per run.
     Batch(BatchArgs),

@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use nudge_executive::record::Observer;
 use nudge_executive::robot::Wrench;
-use nudge_executive::{AbortReason, CandidatePolicy, RunReport, State};
+use nudge_executive::{AbortReason, CandidatePolicy, Edge, RunReport, State};
 use nudge_sim::metrics::{RunMetrics, Start, measure};
 use nudge_sim::run::runner;
 use nudge_sim::scenario::Scenario;
@@ -42,6 +42,9 @@ pub struct Done {
     pub scored: Vec<Scored>,
     /// The largest wrist force seen during the run (N).
     pub peak_force: f64,
+    /// The largest wrist force of the run's push tests and clearing pushes as a share of the force
+    /// limit in force (1 = at the limit); `None` when the hand never pushed.
+    pub force_share: Option<f64>,
     /// Wall-clock seconds the run took.
     pub wall: f64,
     /// The standard metrics (SPL, effort, INS, mistakes) against ground truth.
@@ -81,13 +84,44 @@ impl Cancel {
     }
 }
 
-/// Remembers the largest wrist force of a run.
-#[derive(Default)]
-struct PeakForce(f64);
+/// Remembers the largest wrist force of a run, and the largest as a share of the limit in force
+/// while the hand pushes: a push test's limit in a push test, a clearing stroke's while clearing.
+struct PeakForce {
+    peak: f64,
+    share: Option<f64>,
+    /// The limit of the push under way (N), or `None` between pushes.
+    limit: Option<f64>,
+    test_limit: f64,
+    clear_limit: f64,
+}
+
+impl PeakForce {
+    fn new(config: &nudge_executive::ExecutiveConfig) -> Self {
+        Self {
+            peak: 0.0,
+            share: None,
+            limit: None,
+            test_limit: config.force_limit,
+            clear_limit: config.clear_force_limit,
+        }
+    }
+}
 
 impl Observer for PeakForce {
+    fn transition(&mut self, _stamp: f64, _from: Option<&State>, _edge: Edge, to: &State) {
+        self.limit = match to {
+            State::PushTest { .. } => Some(self.test_limit),
+            State::ClearPath { .. } => Some(self.clear_limit),
+            _ => None,
+        };
+    }
+
     fn wrench(&mut self, _stamp: f64, wrench: &Wrench) {
-        self.0 = self.0.max(wrench.force_norm());
+        let f = wrench.force_norm();
+        self.peak = self.peak.max(f);
+        if let Some(limit) = self.limit {
+            self.share = Some(self.share.unwrap_or(0.0).max(f / limit));
+        }
     }
 }
 
@@ -105,7 +139,13 @@ pub enum NotDone {
 /// Runs one job to its end and scores it.
 pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
     let started = Instant::now();
-    let mut runner = runner(job.scenario, job.seed, job.policy, PeakForce::default())?;
+    let config = nudge_sim::run::run_config(job.scenario, job.seed, job.policy);
+    let mut runner = runner(
+        job.scenario,
+        job.seed,
+        job.policy,
+        PeakForce::new(&config.executive),
+    )?;
     let start = Start::of(job.scenario, runner.robot().world());
     cancel.watch(runner.cancel_flag());
     let report = runner.run();
@@ -119,7 +159,8 @@ pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
     Ok(Done {
         report,
         scored,
-        peak_force: peak.0,
+        peak_force: peak.peak,
+        force_share: peak.share,
         wall,
         metrics,
     })

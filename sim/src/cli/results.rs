@@ -78,6 +78,10 @@ pub struct RunLine {
     /// New contacts with people; absent in a scenario without people.
     #[serde(default)]
     pub people_contacts: Option<u32>,
+    /// Largest wrist force while the hand pushed (push tests and clearing strokes) as a share of the
+    /// force limit in force then (1 = at the limit); absent when the hand never pushed.
+    #[serde(default)]
+    pub force_share: Option<f64>,
 }
 
 impl RunLine {
@@ -118,6 +122,7 @@ impl RunLine {
             false_static: m.false_static,
             false_movable: m.false_movable,
             people_contacts: m.people_contacts,
+            force_share: done.force_share,
         }
     }
 
@@ -179,6 +184,7 @@ struct Tally {
     false_movable: u64,
     robot_time: f64,
     peak_force: f64,
+    force_share: Option<f64>,
     spl: Mean,
     ins: Mean,
     displaced: f64,
@@ -215,7 +221,8 @@ impl Mean {
 /// The summary table, one row per family (or scenario) and policy: runs, runs that met their
 /// `[expect]` block, outcomes, success rate, mean SPL and INS (over the runs that have them), mean
 /// mass displaced and hand work, mean push tests, classification accuracy (right / all verdicts),
-/// false-static and false-movable verdicts, mean robot time, largest force and contacts with people.
+/// false-static and false-movable verdicts, mean robot time, largest force, largest force while
+/// pushing as a share of the limit in force, and contacts with people.
 pub fn table(lines: &[RunLine], group: Group) -> String {
     let mut tallies: BTreeMap<(&str, &str), Tally> = BTreeMap::new();
     for l in lines {
@@ -235,6 +242,9 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         t.wrong += u64::from(l.wrong);
         t.robot_time += l.robot_time;
         t.peak_force = t.peak_force.max(l.peak_force);
+        if let Some(share) = l.force_share {
+            t.force_share = Some(t.force_share.unwrap_or(0.0).max(share));
+        }
         t.false_static += u64::from(l.false_static);
         t.false_movable += u64::from(l.false_movable);
         t.spl.add(l.spl);
@@ -256,7 +266,7 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         .unwrap_or(0)
         .max(8);
     let mut out = format!(
-        "{:<width$}  {:<8}  {:>4}  {:>7}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>8}\n",
+        "{:<width$}  {:<8}  {:>4}  {:>7}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>7}  {:>8}\n",
         match group {
             Group::Family => "family",
             Group::Scenario => "scenario",
@@ -277,6 +287,7 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         "F-S/M",
         "robot time",
         "max force",
+        "F/limit",
         "contacts"
     );
     for ((scenario, policy), t) in &tallies {
@@ -293,11 +304,14 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         } else {
             format!("{}/{}", t.expect_met, t.expect_runs)
         };
+        let share = t
+            .force_share
+            .map_or_else(|| "-".to_string(), |f| format!("{f:.2}"));
         let contacts = t
             .people_contacts
             .map_or_else(|| "-".to_string(), |c| c.to_string());
         out.push_str(&format!(
-            "{scenario:<width$}  {policy:<8}  {:>4}  {expect:>7}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {contacts:>8}\n",
+            "{scenario:<width$}  {policy:<8}  {:>4}  {expect:>7}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {share:>7}  {contacts:>8}\n",
             t.runs,
             t.goal,
             t.no_path,
@@ -345,6 +359,7 @@ mod tests {
             false_static: 0,
             false_movable: 0,
             people_contacts: None,
+            force_share: Some(0.9),
         }
     }
 

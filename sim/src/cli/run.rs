@@ -110,6 +110,9 @@ fn summarise(report: &RunReport, wall: f64) {
     for (id, why) in &explanation.unpushable {
         println!("unpushable   {id}: {why}");
     }
+    for (id, n) in &explanation.jams {
+        println!("jammed       {id}: {n} time(s) while clearing");
+    }
     for (k, v) in explanation.views.iter().enumerate() {
         println!(
             "view {:<7} looked from ({:.2}, {:.2}) facing {:.0}° for {} ({:.2} m² predicted, {:.1} m walk)",
