@@ -166,7 +166,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let mut moved = 0.0;
         let mut peak: f64 = 0.0;
         let mut line: Option<f64> = None;
-        for _ in 0..max_strokes {
+        for stroke_index in 0..max_strokes {
             let remaining = intent.distance - moved;
             if remaining <= 0.02 {
                 break;
@@ -210,9 +210,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 break;
             }
             let limit = self.config.executive.clear_force_limit;
-            // The object was measured where the last stroke left it, or planned from a look; it may
-            // have turned nearer since (a chair caught on a jamb swings a corner towards the hand).
-            let approach = Approach::GuardedLast(motion.approach_gap);
+            // The first stroke goes by a plan made from a look, its object perhaps turned since (a
+            // chair that jammed on a jamb, a corner now beside the hand's way): the hand gets to
+            // the line guarded all the way. Later strokes start where the last one measured the
+            // object, and only their last stretch is guarded (it may have turned nearer).
+            let approach = if stroke_index == 0 {
+                Approach::Guarded
+            } else {
+                Approach::GuardedLast(motion.approach_gap)
+            };
             let stroke = self.stroke(from_x, to_x, y, intent.hand_height, limit, approach)?;
             peak = peak.max(stroke.peak_force);
             self.retract()?;
