@@ -77,7 +77,7 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
                     (Some(name), truly_movable == verdict.is_movable())
                 }
                 // The room's own walls are no scenario object, and they never move.
-                None if prism.is_some_and(|p| on_room_wall(p, world.room_size())) => {
+                None if prism.is_some_and(|p| on_room_wall(&p.footprint, world.room_size())) => {
                     (Some(ROOM_WALL.to_string()), !verdict.is_movable())
                 }
                 None => (None, false),
@@ -95,13 +95,14 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
 /// The name a verdict about the room's own walls is scored under.
 pub const ROOM_WALL: &str = "room wall";
 
-/// Whether `prism`'s footprint lies on the walls of a room of `size` (its floor `0..size`): every
-/// vertex within [`MATCH_DISTANCE`] of the floor's edge, so a wall's piece seen from inside (its
-/// footprint a few centimetres deep) and its corner pieces count, a thing standing in the room not.
-fn on_room_wall(prism: &Prism, size: [f64; 2]) -> bool {
+/// Whether an obstacle's `footprint` lies on the walls of a room of `size` (its floor `0..size`):
+/// every vertex within [`MATCH_DISTANCE`] of the floor's edge, so a wall's piece seen from inside
+/// (its footprint a few centimetres deep) and its corner pieces count, a thing standing in the room
+/// not.
+fn on_room_wall(footprint: &[Point2<f64>], size: [f64; 2]) -> bool {
     let [w, h] = size;
-    !prism.footprint.is_empty()
-        && prism.footprint.iter().all(|p| {
+    !footprint.is_empty()
+        && footprint.iter().all(|p| {
             let to_edge = p.x.min(w - p.x).min(p.y).min(h - p.y);
             to_edge <= MATCH_DISTANCE
         })
@@ -331,21 +332,8 @@ mod tests {
     #[test]
     fn a_piece_of_the_rooms_wall_is_the_room_wall_and_a_box_in_the_room_is_not() {
         // Invariant: an obstacle whose outline lies along the room's edge (a wall seen from inside, a corner piece) is a piece of the room's wall, scored as static in truth; one standing in the room, or reaching into it from a wall, is not.
-        let square = |x0: f64, y0: f64, x1: f64, y1: f64| Prism {
-            id: ObjectId(1),
-            footprint: vec![
-                Point2::new(x0, y0),
-                Point2::new(x1, y0),
-                Point2::new(x1, y1),
-                Point2::new(x0, y1),
-            ],
-            z_min: 0.0,
-            z_max: 2.0,
-            points: nudge_perception::ColourCloud::empty(
-                nudge_perception::CloudFrame::Map,
-                Isometry3::identity(),
-                0.0,
-            ),
+        let square = |x0: f64, y0: f64, x1: f64, y1: f64| {
+            [(x0, y0), (x1, y0), (x1, y1), (x0, y1)].map(|(x, y)| Point2::new(x, y))
         };
         let room = [9.0, 4.0];
         assert!(on_room_wall(&square(4.4, 3.9, 4.6, 4.02), room));

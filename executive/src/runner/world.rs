@@ -409,32 +409,23 @@ impl WorldModel {
         /// Elevation cells are 4 cm and the range noise about a centimetre: a surface cut by the
         /// view's top ray reads up to this far below it.
         const TOP_MARGIN: f64 = 0.1;
-        let far_side = |look: &Point2<f64>| {
-            prism
-                .footprint
-                .iter()
-                .map(|v| (v - look).norm())
-                .fold(0.0, f64::max)
-        };
         self.seen_from
             .get(&prism.id)
-            .and_then(|places| places.iter().map(far_side).max_by(f64::total_cmp))
+            .and_then(|places| {
+                places
+                    .iter()
+                    .map(|look| far_side(prism, look))
+                    .max_by(f64::total_cmp)
+            })
             .is_some_and(|d| prism.z_max + TOP_MARGIN < config.top_in_view(d))
     }
 
     /// How far behind `prism` its own shadow reaches on the floor (m), as seen from the look nearest
     /// it: the floor it hides from an eye at `eye_height` (see [`nudge_motion::shadow_length`]).
     pub fn own_shadow(&self, prism: &Prism, eye_height: f64) -> f64 {
-        let far_side = |look: &Point2<f64>| {
-            prism
-                .footprint
-                .iter()
-                .map(|v| (v - look).norm())
-                .fold(0.0, f64::max)
-        };
         self.looks
             .iter()
-            .map(far_side)
+            .map(|look| far_side(prism, look))
             .min_by(f64::total_cmp)
             .map_or(0.0, |d| {
                 nudge_motion::shadow_length(d, prism.z_max, eye_height)
@@ -493,6 +484,16 @@ impl Side {
             outward: true,
         },
     ];
+}
+
+/// Distance (m) from `look` to the farthest vertex of `prism`'s footprint: how far off its far side
+/// was from there.
+fn far_side(prism: &Prism, look: &Point2<f64>) -> f64 {
+    prism
+        .footprint
+        .iter()
+        .map(|v| (v - look).norm())
+        .fold(0.0, f64::max)
 }
 
 /// Corners of the box around `prism`'s footprint.
