@@ -17,6 +17,31 @@ pub struct Candidate {
     pub moved_lately: bool,
 }
 
+/// An obstacle in the robot's way that ranking left out, and why: a partition, a long sideboard, the
+/// room's walls, or an object found movable whose outline now takes in what it was pushed against.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SetAside {
+    /// The obstacle.
+    pub id: ObjectId,
+    /// Why it is no candidate.
+    pub why: SetAsideWhy,
+}
+
+/// Why ranking left an obstacle out.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SetAsideWhy {
+    /// Wider than anything the robot pushes.
+    TooLarge {
+        /// Its footprint's largest extent (m).
+        extent: f64,
+        /// The largest the robot pushes (m).
+        limit: f64,
+    },
+    /// Taken for room structure: at the edge of everything seen, its top out of view, nothing seen
+    /// beyond it.
+    Structure,
+}
+
 /// Something that happened, fed to the machine by the runner.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Event {
@@ -49,8 +74,14 @@ pub enum Event {
         /// What the grid or perception saw.
         reason: String,
     },
-    /// Push candidates ranked by the configured policy, best first.
-    CandidatesRanked(Vec<Candidate>),
+    /// Push candidates ranked by the configured policy, best first, and the obstacles in the way
+    /// left out for their size.
+    CandidatesRanked {
+        /// The candidates, best first.
+        ranked: Vec<Candidate>,
+        /// Obstacles in the way too large to push.
+        set_aside: Vec<SetAside>,
+    },
     /// The push planner produced a plan for the target.
     PushPlanned(PushIntent),
     /// No push of the target could be planned.
@@ -124,7 +155,7 @@ impl Event {
             Event::Arrived => "Arrived",
             Event::WalkBlocked => "WalkBlocked",
             Event::PathInvalidated { .. } => "PathInvalidated",
-            Event::CandidatesRanked(_) => "CandidatesRanked",
+            Event::CandidatesRanked { .. } => "CandidatesRanked",
             Event::PushPlanned(_) => "PushPlanned",
             Event::NoPushPlan { .. } => "NoPushPlan",
             Event::UnseenAhead { .. } => "UnseenAhead",

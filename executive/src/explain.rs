@@ -20,6 +20,8 @@ pub struct TestRecord {
     pub icp_mm: Option<f64>,
     /// Hand travel after contact (mm).
     pub hand_travel_mm: f64,
+    /// Whether the guarded move stopped at the force limit.
+    pub reached_limit: bool,
     /// What this test found.
     pub finding: Finding,
 }
@@ -47,6 +49,8 @@ pub struct Explanation {
     pub verdicts: BTreeMap<ObjectId, Verdict>,
     /// Objects no push could be planned for, with the planner's reason.
     pub unpushable: BTreeMap<ObjectId, String>,
+    /// Obstacles in the way that the last ranking left out for their size, with why.
+    pub set_aside: BTreeMap<ObjectId, String>,
     /// Objects that jammed while being cleared, with how often.
     pub jams: BTreeMap<ObjectId, u32>,
     /// The planner's last reason for finding no path.
@@ -90,6 +94,9 @@ impl std::fmt::Display for Explanation {
         }
         for (id, why) in &self.unpushable {
             writeln!(f, "{id}: no push plan ({why})")?;
+        }
+        for (id, why) in &self.set_aside {
+            writeln!(f, "{id}: set aside ({why})")?;
         }
         for (id, n) in &self.jams {
             writeln!(f, "{id}: jammed {n} time(s) while clearing")?;

@@ -22,7 +22,7 @@ pub mod view;
 
 pub use command::Command;
 pub use config::{CandidatePolicy, ExecutiveConfig};
-pub use event::{Candidate, Event};
+pub use event::{Candidate, Event, SetAside, SetAsideWhy};
 pub use explain::{Explanation, TestRecord};
 pub use machine::{Edge, Knowledge, Step, start, transition};
 pub use push_test::{Finding, PushEvidence, PushIntent, Verdict};

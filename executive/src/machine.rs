@@ -10,7 +10,7 @@ use nudge_perception::ObjectId;
 
 use crate::command::Command;
 use crate::config::ExecutiveConfig;
-use crate::event::{Candidate, Event};
+use crate::event::{Candidate, Event, SetAside, SetAsideWhy};
 use crate::explain::{Explanation, TestRecord};
 use crate::push_test::{Ambiguity, Finding, PushEvidence, PushIntent, Verdict, classify};
 use crate::state::{AbortReason, Approach, Purpose, State};
@@ -109,9 +109,13 @@ pub enum Edge {
     AtPushPoseForClear,
     /// ApproachPushPose(Walking) → LookAround: the approach walk was blocked.
     ApproachBlocked,
+    /// ApproachPushPose(AfterTest) → ClearPath: no clearing push can be planned without a look (or
+    /// at all): the test's push is finished, the paper's loop.
+    FinishTestPush,
     /// PushTest → SelectCandidate: static.
     FoundStatic,
-    /// PushTest → ClearPath: movable.
+    /// PushTest → ClearPath: movable, the test's push opening the way; else → ApproachPushPose
+    /// (AfterTest): the clearing push is planned afresh.
     FoundMovable,
     /// PushTest → PushTest: ambiguous, retest once.
     Retest,
@@ -121,6 +125,10 @@ pub enum Edge {
     NothingThere,
     /// PushTest → SelectCandidate: ambiguous twice, taken as static.
     AmbiguousTwice,
+    /// PushTest → ClearPath (as [`Edge::FoundMovable`]): ambiguous twice, but in both tests the hand pushed on after contact
+    /// with the force under the limit: the object gave way, whatever ICP could not confirm (a static
+    /// object stops the hand within the wrist's compliance, a millimetre or two).
+    YieldedTwice,
     /// PushTest → SelectCandidate: the hand met nothing where the object was seen, again after a
     /// second look: a push there tests empty space, so the object gets no verdict (static would be a
     /// guess: nothing resisted) and is set aside as one no push reaches.
@@ -154,7 +162,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 46] = [
+    pub const ALL: [Edge; 48] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -183,11 +191,13 @@ impl Edge {
         Edge::AtPushPoseForTest,
         Edge::AtPushPoseForClear,
         Edge::ApproachBlocked,
+        Edge::FinishTestPush,
         Edge::FoundStatic,
         Edge::FoundMovable,
         Edge::Retest,
         Edge::NothingThere,
         Edge::AmbiguousTwice,
+        Edge::YieldedTwice,
         Edge::MissedTwice,
         Edge::Cleared,
         Edge::OffLine,
@@ -348,12 +358,18 @@ pub fn transition(
             vec![Command::StopWalk, Command::WatchAhead, Command::LookAround],
             Edge::ViewBlocked,
         ),
-        (State::SelectCandidate, Event::CandidatesRanked(list)) => pick(list, k, config),
+        (State::SelectCandidate, Event::CandidatesRanked { ranked, set_aside }) => {
+            k.explanation.set_aside = set_aside
+                .iter()
+                .filter_map(|s| why_set_aside(s, &k).map(|why| (s.id, why)))
+                .collect();
+            pick(ranked, k, config)
+        }
         (
             State::ApproachPushPose {
                 target,
                 purpose,
-                phase: Approach::Planning,
+                phase: Approach::Planning | Approach::AfterTest(_),
             },
             Event::PushPlanned(intent),
         ) if intent.target == *target => step(
@@ -365,6 +381,22 @@ pub fn transition(
             k,
             vec![Command::WalkToPushPose(intent.clone())],
             Edge::PushPlanned,
+        ),
+        (
+            State::ApproachPushPose {
+                target,
+                phase: Approach::AfterTest(test),
+                ..
+            },
+            Event::NoPushPlan { .. },
+        ) => step(
+            State::ClearPath {
+                target: *target,
+                intent: test.clone(),
+            },
+            k,
+            vec![Command::ClearPath(test.clone())],
+            Edge::FinishTestPush,
         ),
         (
             State::ApproachPushPose {
@@ -555,6 +587,31 @@ fn select_candidate(k: Knowledge, config: &ExecutiveConfig, edge: Edge) -> Step 
         }],
         edge,
     )
+}
+
+/// Why an obstacle was set aside, for the explanation: its size, or for one a push test found
+/// movable, that it now looks like structure too; `None` for room structure nobody pushed (the walls:
+/// listing them explains nothing).
+fn why_set_aside(s: &SetAside, k: &Knowledge) -> Option<String> {
+    let movable = k
+        .explanation
+        .verdicts
+        .get(&s.id)
+        .is_some_and(Verdict::is_movable);
+    let why = match s.why {
+        SetAsideWhy::TooLarge { extent, limit } => {
+            format!("{extent:.2} m across, more than the {limit:.1} m the robot pushes")
+        }
+        SetAsideWhy::Structure if movable => {
+            "taken for room structure (the edge of all that was seen, its top out of view)".into()
+        }
+        SetAsideWhy::Structure => return None,
+    };
+    Some(if movable {
+        format!("{why}: found movable, its outline now takes in what it was pushed against")
+    } else {
+        why
+    })
 }
 
 fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
@@ -748,6 +805,19 @@ fn start_push_test(
     )
 }
 
+/// Whether the last two tests of `target` (the retest just recorded and the test before it) both
+/// saw the object give way under the hand
+/// ([`crate::push_test::ClassifierConfig::gave_way`]).
+fn gave_way_twice(tests: &[TestRecord], target: ObjectId, config: &ExecutiveConfig) -> bool {
+    let mut last = tests.iter().rev().filter(|t| t.object == target).take(2);
+    let gave = |t: &TestRecord| {
+        config
+            .classifier
+            .gave_way(t.reached_limit, t.hand_travel_mm / 1e3)
+    };
+    matches!((last.next(), last.next()), (Some(a), Some(b)) if gave(a) && gave(b))
+}
+
 fn conclude_push_test(
     target: ObjectId,
     intent: &PushIntent,
@@ -763,6 +833,7 @@ fn conclude_push_test(
         peak_force: evidence.peak_force,
         icp_mm: evidence.icp.map(|icp| icp.displacement * 1e3),
         hand_travel_mm: evidence.hand_travel * 1e3,
+        reached_limit: evidence.reached_limit,
         finding: finding.clone(),
     });
     let push_test = k.push_tests;
@@ -773,7 +844,28 @@ fn conclude_push_test(
             verdict: verdict.clone(),
             push_test,
         };
-        if verdict.is_movable() {
+        if verdict.is_movable() && !intent.opens_way {
+            // The test's push only had to move the object: plan the clearing push afresh, and
+            // finish the test's push where that cannot be done without a look.
+            let allow_unseen = k.unseen_ok.contains(&target);
+            step(
+                State::ApproachPushPose {
+                    target,
+                    purpose: Purpose::Clear,
+                    phase: Approach::AfterTest(intent.clone()),
+                },
+                k,
+                vec![
+                    mark,
+                    Command::PlanPush {
+                        target,
+                        purpose: Purpose::Clear,
+                        allow_unseen,
+                    },
+                ],
+                edge,
+            )
+        } else if verdict.is_movable() {
             step(
                 State::ClearPath {
                     target,
@@ -820,6 +912,9 @@ fn conclude_push_test(
         }
         Finding::Ambiguous(_) if attempt < 2 => {
             start_push_test(target, intent, attempt + 1, k, config, Edge::Retest)
+        }
+        Finding::Ambiguous(_) if gave_way_twice(&k.explanation.tests, target, config) => {
+            verdict_step(k, Verdict::Movable, Edge::YieldedTwice)
         }
         Finding::Ambiguous(_) => verdict_step(
             k,

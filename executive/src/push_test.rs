@@ -4,7 +4,9 @@
 //! The paper's two clean cases: pushing the table, the force reached the 20 N limit while ICP read
 //! under 10 mm (static); pushing a chair, ICP read 189.3 mm against 182.2 mm of hand travel after
 //! contact (movable). Everything else is ambiguous and earns one retest; a second ambiguous reading is
-//! treated as static, and the verdict says so.
+//! treated as static, and the verdict says so, unless in both tests the hand pushed on for centimetres
+//! with the force under the limit ([`ClassifierConfig::gave_way`]): then the object moved, whatever
+//! ICP could not measure.
 
 use nalgebra::{Isometry2, Unit, Vector2};
 use nudge_perception::ObjectId;
@@ -22,6 +24,10 @@ pub struct PushIntent {
     pub direction: Unit<Vector2<f64>>,
     /// How far the object should travel when clearing the way (m).
     pub distance: f64,
+    /// Whether the push, as planned, opens a way to the goal. A push test's push need not: it only
+    /// has to move the object; once the object is found movable, a clearing push is planned afresh
+    /// (a longer push, another face, or the first of two).
+    pub opens_way: bool,
 }
 
 /// The colour-ICP reading of a pushed object's points, before against after.
@@ -74,6 +80,15 @@ pub struct ClassifierConfig {
 }
 
 impl ClassifierConfig {
+    /// Whether the wrist alone says the object gave way: the hand pushed on after contact farther
+    /// than hand and ICP may disagree by, and the force never reached the limit. A static object
+    /// stops the hand within the wrist's compliance (0.1–2 mm at 20 N in every static test so far);
+    /// only an object that slides or turns lets it travel centimetres under the limit. Read when ICP
+    /// could not confirm the motion twice: a second opinion, not the paper's first.
+    pub fn gave_way(&self, reached_limit: bool, hand_travel: f64) -> bool {
+        !reached_limit && hand_travel >= self.agreement_abs
+    }
+
     /// Whether an ICP reading is good enough to read: converged, or stopped short with a good fit. A
     /// chair pushed 14 cm can end ICP's iterations oscillating with 99.7 % inliers and 5.8 mm RMSE:
     /// its reading is as good as a converged one (and a motion reading must agree with the hand anyway).

@@ -20,6 +20,11 @@ pub enum Purpose {
 pub enum Approach {
     /// Waiting for the push planner's answer.
     Planning,
+    /// Waiting for the planner's clearing push of an object a push test has just found movable, the
+    /// test's push (held here) not opening the way. A plan that needs a look first is not waited
+    /// for: the test's push is finished instead, which takes a box far enough through a doorway for
+    /// the next look to see past it.
+    AfterTest(PushIntent),
     /// Walking to the stand pose of this plan.
     Walking(PushIntent),
 }

@@ -70,6 +70,7 @@ fn observe(rec: &mut impl Observer) {
         hand_height: 0.7,
         direction: Unit::new_normalize(Vector2::new(1.0, 0.0)),
         distance: 0.8,
+        opens_way: true,
     };
     rec.push(4.0, &intent, Some(Vector2::new(-20.0, 0.0)));
     rec.frames(

@@ -10,13 +10,15 @@ use nalgebra::{Isometry2, Unit, Vector2};
 use nudge_executive::push_test::IcpReading;
 use nudge_executive::{
     AbortReason, Approach, Candidate, CandidatePolicy, Command, Edge, Event, ExecutiveConfig,
-    Knowledge, Purpose, PushEvidence, PushIntent, Question, State, Step, UnseenRegion, UnseenWhy,
-    Verdict, ViewRecord, Viewpoint, start, transition,
+    Knowledge, Purpose, PushEvidence, PushIntent, Question, SetAside, SetAsideWhy, State, Step,
+    UnseenRegion, UnseenWhy, Verdict, ViewRecord, Viewpoint, start, transition,
 };
 use nudge_perception::ObjectId;
 
 const TABLE: ObjectId = ObjectId(1);
 const CHAIR: ObjectId = ObjectId(2);
+const WALL: ObjectId = ObjectId(3);
+const CRATE: ObjectId = ObjectId(4);
 
 fn config() -> ExecutiveConfig {
     ExecutiveConfig::default()
@@ -29,6 +31,7 @@ fn intent(target: ObjectId) -> PushIntent {
         hand_height: 0.45,
         direction: Unit::new_normalize(Vector2::new(1.0, 0.0)),
         distance: 0.8,
+        opens_way: true,
     }
 }
 
@@ -55,15 +58,17 @@ fn run(state: State, knowledge: &Knowledge, event: Event) -> Step {
 }
 
 fn candidates(ids: &[ObjectId]) -> Event {
-    Event::CandidatesRanked(
-        ids.iter()
+    Event::CandidatesRanked {
+        ranked: ids
+            .iter()
             .map(|&id| Candidate {
                 id,
                 passively_movable: false,
                 moved_lately: false,
             })
             .collect(),
-    )
+        set_aside: Vec::new(),
+    }
 }
 
 fn approach(target: ObjectId, purpose: Purpose, phase: Approach) -> State {
@@ -214,7 +219,7 @@ cases! {
     }
     a_passively_movable_candidate_is_looked_at_again_first => {
         // Invariant: an object movable on passive evidence alone (a person who stopped is too) is not pushed at once: the robot looks again, and counts the wait.
-        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }]);
+        let e = Event::CandidatesRanked { ranked: vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }], set_aside: Vec::new() };
         let s = run(State::SelectCandidate, &Knowledge::default(), e);
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
         assert_eq!(s.knowledge.waits.get(&CHAIR), Some(&1));
@@ -224,16 +229,16 @@ cases! {
         // Invariant: when every candidate is settled but one that moved lately (a person standing in the way), the robot looks again instead of giving up, as many times as passive_waits allows.
         let person = Candidate { id: CHAIR, passively_movable: false, moved_lately: true };
         let mut k = with_static(CHAIR);
-        let s = run(State::SelectCandidate, &k, Event::CandidatesRanked(vec![person.clone()]));
+        let s = run(State::SelectCandidate, &k, Event::CandidatesRanked { ranked: vec![person.clone()], set_aside: Vec::new() });
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
         k.waits.insert(CHAIR, config().passive_waits);
-        let s2 = run(State::SelectCandidate, &k, Event::CandidatesRanked(vec![person]));
+        let s2 = run(State::SelectCandidate, &k, Event::CandidatesRanked { ranked: vec![person], set_aside: Vec::new() });
         assert_eq!(s2.state, State::PlanView { question: Question::Way });
         s.edge
     }
     a_known_movable_candidate_skips_the_push_test => {
         // Invariant: an object the grid saw moving, still there after the waits, is cleared without a push test.
-        let e = Event::CandidatesRanked(vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }]);
+        let e = Event::CandidatesRanked { ranked: vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }], set_aside: Vec::new() };
         let mut k = Knowledge::default();
         k.waits.insert(CHAIR, config().passive_waits);
         let s = run(State::SelectCandidate, &k, e);
@@ -260,6 +265,32 @@ cases! {
         let s = run(State::SelectCandidate, &with_static(TABLE), candidates(&[TABLE]));
         assert_eq!(s.state, State::PlanView { question: Question::Way });
         assert_eq!(s.commands, vec![Command::PlanView(Question::Way)]);
+        s.edge
+    }
+    an_obstacle_too_large_to_push_is_set_aside_in_the_explanation => {
+        // Invariant: an obstacle ranking left out for its size is named in the explanation with its size, one found movable and left out for either reason says its outline took in what it was pushed against, room structure nobody pushed is not listed, none is a candidate, and a later ranking that leaves them in clears the entries.
+        let mut k = Knowledge::default();
+        k.explanation.verdicts.insert(CHAIR, Verdict::Movable);
+        k.explanation.verdicts.insert(CRATE, Verdict::Movable);
+        let ranked = Event::CandidatesRanked {
+            ranked: Vec::new(),
+            set_aside: vec![
+                SetAside { id: CHAIR, why: SetAsideWhy::TooLarge { extent: 2.4, limit: 2.0 } },
+                SetAside { id: TABLE, why: SetAsideWhy::TooLarge { extent: 3.1, limit: 2.0 } },
+                SetAside { id: WALL, why: SetAsideWhy::Structure },
+                SetAside { id: CRATE, why: SetAsideWhy::Structure },
+            ],
+        };
+        let s = run(State::SelectCandidate, &k, ranked);
+        assert_eq!(s.state, State::PlanView { question: Question::Way });
+        let why = &s.knowledge.explanation.set_aside;
+        assert!(why.get(&CHAIR).is_some_and(|w| w.contains("2.40 m across") && w.contains("found movable")), "{why:?}");
+        assert!(why.get(&TABLE).is_some_and(|w| w.contains("3.10 m across") && !w.contains("movable")), "{why:?}");
+        assert!(why.get(&CRATE).is_some_and(|w| w.contains("structure") && w.contains("found movable")), "{why:?}");
+        assert!(!why.contains_key(&WALL), "walls nobody pushed explain nothing: {why:?}");
+        let later = run(State::SelectCandidate, &s.knowledge, candidates(&[CHAIR]));
+        assert!(later.knowledge.explanation.set_aside.is_empty());
+        assert_eq!(later.commands, vec![plan_push(CHAIR, Purpose::Clear, false)]);
         s.edge
     }
     no_view_that_could_open_a_way_ends_in_no_path_with_the_evidence => {
@@ -419,6 +450,30 @@ cases! {
         assert!((t.icp_mm.unwrap_or(0.0) - 189.3).abs() < 1e-9 && (t.hand_travel_mm - 182.2).abs() < 1e-9);
         s.edge
     }
+    a_movable_object_whose_test_push_opens_no_way_gets_its_clearing_push_planned_afresh => {
+        // Invariant: found movable by a test whose push does not open the way, the object is not pushed on along the test's line at once: its clearing push is planned afresh (a longer push, another face, or the first of two), with the verdict marked first, and a plan found is walked to.
+        let short = PushIntent { opens_way: false, distance: 0.3, ..intent(CHAIR) };
+        let state = State::PushTest { target: CHAIR, intent: short.clone(), attempt: 1 };
+        let s = run(state, &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.1822, 0.1893)));
+        assert_eq!(s.state, approach(CHAIR, Purpose::Clear, Approach::AfterTest(short)));
+        assert_eq!(s.commands, vec![
+            Command::MarkVerdict { target: CHAIR, verdict: Verdict::Movable, push_test: 1 },
+            plan_push(CHAIR, Purpose::Clear, false),
+        ]);
+        let planned = run(s.state.clone(), &s.knowledge, Event::PushPlanned(intent(CHAIR)));
+        assert_eq!(planned.state, approach(CHAIR, Purpose::Clear, Approach::Walking(intent(CHAIR))));
+        s.edge
+    }
+    no_clearing_push_without_a_look_after_a_test_finishes_the_tests_push => {
+        // Invariant: when, right after the test, no clearing push can be planned without a look (or at all), the test's push is finished along its line (the paper's loop) rather than looking from where the object still blocks the view.
+        let short = PushIntent { opens_way: false, distance: 0.3, ..intent(CHAIR) };
+        let state = approach(CHAIR, Purpose::Clear, Approach::AfterTest(short.clone()));
+        let s = run(state, &Knowledge::default(), Event::NoPushPlan { reason: "floor not yet seen".into(), unseen: true });
+        assert_eq!(s.state, State::ClearPath { target: CHAIR, intent: short.clone() });
+        assert_eq!(s.commands, vec![Command::ClearPath(short)]);
+        assert!(s.knowledge.explanation.unpushable.is_empty());
+        s.edge
+    }
     an_ambiguous_first_test_is_retested_once => {
         // Invariant: an ambiguous first test starts exactly one retest, counted as a push test.
         let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.20, 0.05)));
@@ -451,10 +506,28 @@ cases! {
         s.edge
     }
     an_ambiguous_retest_is_static_and_says_so => {
-        // Invariant: a second ambiguous test ends static with after_ambiguity = true.
-        let s = run(push_test(CHAIR, 2), &Knowledge { push_tests: 2, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.20, 0.05)));
+        // Invariant: a second ambiguous test ends static with after_ambiguity = true unless both tests saw the object give way (here the force reached the limit, the hand stayed put).
+        let jammed = evidence(true, 0.002, 0.05);
+        let first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(jammed.clone()));
+        assert_eq!(first.state, push_test(CHAIR, 2));
+        let s = run(push_test(CHAIR, 2), &first.knowledge, Event::PushTestDone(jammed));
         assert_eq!(s.state, State::SelectCandidate);
         assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: true }));
+        s.edge
+    }
+    two_ambiguous_tests_the_hand_pushed_through_under_the_limit_find_it_movable => {
+        // Invariant: two ambiguous tests in both of which the hand travelled centimetres after contact with the force under the limit (ICP failing to confirm) find the object movable and clear the way with it; one such test beside a jammed one stays static.
+        let mut slid = evidence(false, 0.20, 0.0);
+        slid.icp = None;
+        let first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(slid.clone()));
+        assert_eq!(first.state, push_test(CHAIR, 2));
+        let s = run(push_test(CHAIR, 2), &first.knowledge, Event::PushTestDone(slid.clone()));
+        assert_eq!(s.state, State::ClearPath { target: CHAIR, intent: intent(CHAIR) });
+        assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Movable));
+        assert!(s.knowledge.explanation.tests.iter().all(|t| !t.reached_limit && t.hand_travel_mm > 30.0));
+        let jammed_first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(true, 0.002, 0.05)));
+        let mixed = run(push_test(CHAIR, 2), &jammed_first.knowledge, Event::PushTestDone(slid));
+        assert_eq!(mixed.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: true }));
         s.edge
     }
     a_finished_clearing_push_looks_again => {

@@ -80,10 +80,14 @@ fn a_crate_in_the_only_doorway_is_pushed_through_it_in_one_long_push() {
 
 #[test]
 fn a_box_in_a_corridor_is_pushed_along_it_until_a_niche_lets_the_robot_pass() {
-    // Invariant: the box filling the corridor is found movable by a short push test, and after the test's short push one long clearing push of some ten strokes takes it about 3 m along the corridor into the stretch beside the niche, where the robot passes it to the goal.
+    // Invariant: the box filling the corridor is found movable by a short push test, and then one long clearing push of some ten strokes (planned at once, the test's short push opening no way; or after the test's push finished) takes it about 3 m along the corridor into the stretch beside the niche, where the robot passes it to the goal.
     let (report, moved, _) = run("corridor-niche", "box");
     assert_eq!(report.outcome, State::Goal);
-    assert_eq!(clears(&report), 2, "the test's push, then one long push");
+    let n = clears(&report);
+    assert!(
+        (1..=2).contains(&n),
+        "{n} clearing pushes: one long push, after the test's push at most"
+    );
     assert!(moved > 2.5, "the box moved {moved:.2} m");
 }
 
@@ -100,13 +104,22 @@ fn two_boxes_side_by_side_in_a_doorway_are_both_pushed_through_before_the_robot_
 
 #[test]
 fn a_crate_that_can_only_go_as_far_as_a_bolted_wardrobe_leaves_no_path_explained() {
-    // Invariant: a movable crate in the only doorway with a bolted wardrobe just behind it is found movable (and nothing is found movable that is not), the run ends with no path (never the goal, never an abort), the explanation names the crate as movable and the goal region as unseen behind obstacles that close every way to it, and the crate never passes the wardrobe.
+    // Invariant: a movable crate in the only doorway with a bolted wardrobe just behind it is found movable (and nothing is found movable that is not), the run ends with no path (never the goal, never an abort), the explanation names the crate as movable, says why it is pushed no farther, and names the goal region as unseen behind obstacles that close every way to it, and the crate never passes the wardrobe.
     let (report, moved, _) = run("crate-against-wardrobe", "crate");
     let State::NoPathToGoal(explanation) = &report.outcome else {
         panic!("expected no path, got {}", report.outcome.name());
     };
     assert_eq!(explanation.movable_objects().len(), 1, "{explanation}");
     assert!(!explanation.unseen.is_empty(), "{explanation}");
+    // Why the crate is pushed no farther: set aside (its outline grown into the wardrobe's), no push
+    // plan, or jammed.
+    let crate_id = explanation.movable_objects()[0];
+    assert!(
+        explanation.set_aside.contains_key(&crate_id)
+            || explanation.unpushable.contains_key(&crate_id)
+            || explanation.jams.contains_key(&crate_id),
+        "{explanation}"
+    );
     // The crate's far face starts 0.5 m from the wardrobe.
     assert!(moved < 0.5, "the crate moved {moved:.2} m");
 }

@@ -145,8 +145,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 check,
                 &mut self.rng,
             );
-            // Floor not yet seen at any clearance is worth a look, whatever the smaller ones say.
-            unseen |= matches!(attempt, Err(PushError::UnseenFloor(_)));
             // A push that does not open the way may still be the first of two that do.
             let attempt = match attempt {
                 Ok(single) if !single.opens_path && !testing => {
@@ -176,8 +174,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 }
                 other => other,
             };
+            // A push at this clearance refused only for floor not yet seen is worth a look: the
+            // smaller clearances are for stand poses a tight room leaves no room for, not a way
+            // around a look (what they open is a way a few centimetres wide).
+            unseen |= matches!(attempt, Err(PushError::UnseenFloor(_)));
             planned = attempt;
-            if planned.is_ok() {
+            if planned.is_ok() || unseen {
                 break;
             }
         }
@@ -192,6 +194,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     hand_height: plan.hand_height,
                     direction: plan.direction,
                     distance: plan.distance,
+                    opens_way: plan.opens_path,
                 };
                 let stamp = self.robot.now();
                 self.observer.push(stamp, &intent, None);

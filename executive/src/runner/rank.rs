@@ -1,13 +1,13 @@
 //! Ordering push candidates by the run's policy.
 
 use nalgebra::Point2;
-use nudge_motion::{Obstacle, blocking_obstacles};
+use nudge_motion::blocking_obstacles;
 use nudge_perception::{ObjectId, Prism};
 
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
 use crate::config::CandidatePolicy;
-use crate::event::{Candidate, Event};
+use crate::event::{Candidate, Event, SetAside, SetAsideWhy};
 use crate::record::Observer;
 use crate::robot::Robot;
 
@@ -30,20 +30,31 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(v) => v,
             Err(e) => return Event::PerceptionFailed(e),
         };
-        // Candidates: obstacles that block the robot (not stepped over, not passed under), small enough
-        // to push, not settled.
-        let mut by_distance: Vec<(f64, ObjectId)> = self
+        // Candidates: obstacles that block the robot (not stepped over, not passed under), not room
+        // structure, not settled, small enough to push; those too large are set aside, saying so.
+        let limit = self.config.max_candidate_extent;
+        let mut set_aside = Vec::new();
+        let mut by_distance: Vec<(f64, ObjectId)> = Vec::new();
+        for p in self
             .world
             .prisms
             .iter()
-            .filter(|p| !exclude.contains(&p.id) && extent(p) <= self.config.max_candidate_extent)
-            .filter(|p| !self.world.is_structure(p, &self.config))
-            .filter_map(|p| {
-                validity
-                    .obstacle(p.id)
-                    .map(|o: &Obstacle| (o.distance_to_point(&here), p.id))
-            })
-            .collect();
+            .filter(|p| !exclude.contains(&p.id))
+        {
+            let Some(obstacle) = validity.obstacle(p.id) else {
+                continue;
+            };
+            let extent = extent(p);
+            let why = if self.world.is_structure(p, &self.config) {
+                SetAsideWhy::Structure
+            } else if extent > limit {
+                SetAsideWhy::TooLarge { extent, limit }
+            } else {
+                by_distance.push((obstacle.distance_to_point(&here), p.id));
+                continue;
+            };
+            set_aside.push(SetAside { id: p.id, why });
+        }
         by_distance.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let nearest: Vec<ObjectId> = by_distance.iter().map(|(_, id)| *id).collect();
         let ordered = match policy {
@@ -99,6 +110,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     moved_lately: true,
                 }),
         );
-        Event::CandidatesRanked(ranked)
+        Event::CandidatesRanked { ranked, set_aside }
     }
 }

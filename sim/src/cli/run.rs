@@ -110,6 +110,9 @@ fn summarise(report: &RunReport, wall: f64) {
     for (id, why) in &explanation.unpushable {
         println!("unpushable   {id}: {why}");
     }
+    for (id, why) in &explanation.set_aside {
+        println!("set aside    {id}: {why}");
+    }
     for (id, n) in &explanation.jams {
         println!("jammed       {id}: {n} time(s) while clearing");
     }

@@ -242,6 +242,7 @@ mod tests {
             hand_height: 0.6,
             direction: Unit::new_normalize(Vector2::x()),
             distance: 0.8,
+            opens_way: true,
         };
         let wrench = |f: f64| Wrench {
             force: nalgebra::Vector3::new(f, 0.0, 0.0),
