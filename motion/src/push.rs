@@ -23,9 +23,10 @@ use crate::problem::{GoalRegion, Problem};
 use crate::reach::{Change, ReachMemo, certainly_unreachable};
 use crate::seen_floor::FloorCheck;
 use crate::space::pose;
-use crate::sweep::sweep_blocked_among;
+use crate::sweep::{SweepBlock, sweep_blocked_among};
 use crate::validity::{StateValidity, Validity, ValidityError};
 use std::cell::RefCell;
+use std::collections::BTreeSet;
 
 /// Where the hand can reach and what to try.
 #[derive(Clone, Debug, PartialEq)]
@@ -167,8 +168,8 @@ pub enum PushError {
     #[error("no free stand pose in front of {0}")]
     NoStandPose(ObjectId),
     /// Every push sweeps the object into another obstacle or a wall, or the robot cannot follow.
-    #[error("every push of {0} runs into something")]
-    Blocked(ObjectId),
+    #[error("every push of {0} runs into {1}")]
+    Blocked(ObjectId, RunsInto),
     /// No valid stand pose can be reached from the robot's position.
     #[error("no valid push of {0} has a reachable stand pose")]
     Unreachable(ObjectId),
@@ -208,10 +209,52 @@ struct PushScene<'a, 'v> {
 
 /// Why a push was not taken.
 enum Miss {
-    /// It runs into something (or the robot cannot follow).
-    Blocked,
+    /// It runs into this (`None`: no free stand pose, or the robot cannot follow).
+    Blocked(Option<SweepBlock>),
     /// It needs floor nobody has seen.
     Unseen,
+}
+
+/// What the sweeps of an object's refused pushes ran into, for the explanation.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RunsInto {
+    /// Other obstacles a sweep met.
+    pub obstacles: BTreeSet<ObjectId>,
+    /// Whether a sweep left the room.
+    pub walls: bool,
+    /// Whether the robot's body could not follow a push whose sweep was free.
+    pub body: bool,
+}
+
+impl RunsInto {
+    fn note(&mut self, miss: &Miss) {
+        match miss {
+            Miss::Blocked(Some(SweepBlock::Obstacle(id))) => {
+                self.obstacles.insert(*id);
+            }
+            Miss::Blocked(Some(SweepBlock::Wall)) => self.walls = true,
+            Miss::Blocked(None) => self.body = true,
+            Miss::Unseen => {}
+        }
+    }
+}
+
+/// `obj-18 and the room's walls`; `something` when nothing was recorded.
+impl std::fmt::Display for RunsInto {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut parts: Vec<String> = self.obstacles.iter().map(ToString::to_string).collect();
+        if self.walls {
+            parts.push("the room's walls".into());
+        }
+        if self.body {
+            parts.push("a place the robot cannot follow".into());
+        }
+        match parts.len() {
+            0 => write!(f, "something"),
+            1 => write!(f, "{}", parts[0]),
+            n => write!(f, "{} or {}", parts[..n - 1].join(", "), parts[n - 1]),
+        }
+    }
 }
 
 /// A valid push from a stance.
@@ -262,9 +305,10 @@ pub fn plan_push_over(
     let around = Around::new(object, validity);
     let scene = around.scene(validity, goal, config, floor);
     let mut candidates = Vec::new();
+    let mut runs_into = RunsInto::default();
     for (k, stance) in stances.iter().enumerate() {
         let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add(k as u64));
-        let (valid, unseen_sweep) = valid_pushes(stance, &scene, &mut own)?;
+        let (valid, unseen_sweep) = valid_pushes(stance, &scene, &mut runs_into, &mut own)?;
         candidates.extend(valid);
         unseen |= unseen_sweep;
     }
@@ -272,7 +316,7 @@ pub fn plan_push_over(
         return Err(if unseen {
             PushError::UnseenFloor(id)
         } else {
-            PushError::Blocked(id)
+            PushError::Blocked(id, runs_into)
         });
     }
     // Openers first, shortest push first; stable sort keeps face order for ties.
@@ -296,7 +340,7 @@ pub fn plan_push_over(
     let mut openers = Vec::new();
     for (k, stance) in tilted.iter().enumerate() {
         let mut own = ChaCha8Rng::seed_from_u64(seed.wrapping_add((stances.len() + k) as u64));
-        let (valid, unseen_sweep) = valid_pushes(stance, &scene, &mut own)?;
+        let (valid, unseen_sweep) = valid_pushes(stance, &scene, &mut runs_into, &mut own)?;
         openers.extend(valid.into_iter().filter(|c| c.path_after.is_some()));
         unseen |= unseen_sweep;
     }
@@ -594,7 +638,7 @@ fn stance_for(
     let steps = ((config.reach_x.1 - min_standoff) / config.standoff_step.max(1e-3)).floor();
     let standoffs =
         (0..=steps.max(-1.0) as i64).map(|k| min_standoff + k as f64 * config.standoff_step);
-    let mut miss = Miss::Blocked;
+    let mut miss = Miss::Blocked(None);
     for standoff in standoffs {
         for &t in &config.contact_fractions {
             let contact = face.a + (face.b - face.a) * t;
@@ -649,10 +693,11 @@ fn hand_line_clear(
 
 /// Valid pushes from `stance`, shortest first: the first that opens a path ends the list, since a
 /// longer push along the same face is no better. The flag says whether a push was refused because it
-/// sweeps over unseen floor.
+/// sweeps over unseen floor; what the first refused push ran into is noted in `runs_into`.
 fn valid_pushes(
     stance: &Stance,
     scene: &PushScene<'_, '_>,
+    runs_into: &mut RunsInto,
     rng: &mut ChaCha8Rng,
 ) -> Result<(Vec<Candidate>, bool), PushError> {
     let config = scene.config;
@@ -669,7 +714,10 @@ fn valid_pushes(
                 unseen = true;
                 break;
             }
-            Err(Miss::Blocked) => break,
+            Err(miss) => {
+                runs_into.note(&miss);
+                break;
+            }
         };
         if candidate.path_after.is_none() {
             out.push(candidate);
@@ -755,12 +803,11 @@ fn sweep_of(
     } = *scene;
     let offset = stance.direction.into_inner() * distance;
     let swept = object.swept(&offset).map_err(ValidityError::from)?;
-    let blocked = sweep_blocked_among(object, &offset, others, validity, config.sweep_clearance)
-        .map_err(ValidityError::from)?
-        .is_some();
+    let block = sweep_blocked_among(object, &offset, others, validity, config.sweep_clearance)
+        .map_err(ValidityError::from)?;
     let end = follow_end(stance, distance, config);
-    if blocked || !without.motion_free(&stance.stand, &end) {
-        return Ok(Err(Miss::Blocked));
+    if block.is_some() || !without.motion_free(&stance.stand, &end) {
+        return Ok(Err(Miss::Blocked(block)));
     }
     if floor.is_some_and(|f| !sweep_on_seen_floor(object, &swept, &f)) {
         return Ok(Err(Miss::Unseen));

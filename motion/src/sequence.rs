@@ -31,7 +31,8 @@ use rand_chacha::ChaCha8Rng;
 use crate::blocking::{CrossingConfig, cheapest_crossing};
 use crate::problem::{GoalRegion, Problem};
 use crate::push::{
-    PushConfig, PushError, PushPlan, SweptPush, plan_of_swept, plan_push_over, swept_pushes,
+    PushConfig, PushError, PushPlan, RunsInto, SweptPush, plan_of_swept, plan_push_over,
+    swept_pushes,
 };
 use crate::reach::{Change, ReachMemo, certainly_unreachable};
 use crate::seen_floor::FloorCheck;
@@ -249,7 +250,10 @@ fn try_pair(
         .as_ref()
         .map_err(|e| PairMiss::NoFirstPush(e.clone()))?;
     if pushes.is_empty() {
-        return Err(PairMiss::NoFirstPush(PushError::Blocked(a.id)));
+        return Err(PairMiss::NoFirstPush(PushError::Blocked(
+            a.id,
+            RunsInto::default(),
+        )));
     }
     // The second push at the first's few distances: it only has to exist here; the executive plans
     // it again, over the whole range, after a look.
@@ -278,7 +282,7 @@ fn try_pair(
                 };
                 return Ok(Sequence { first, second });
             }
-            Ok(_) => last = Some(PushError::Blocked(b.id)),
+            Ok(_) => last = Some(PushError::Blocked(b.id, RunsInto::default())),
             Err(e) => last = Some(e),
         }
     }

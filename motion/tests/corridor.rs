@@ -12,6 +12,11 @@ use rand_chacha::ChaCha8Rng;
 /// The corridor-niche room: a corridor 1.1 m wide along y = 0 (walls at y 1.1..2.2 over x 0..4
 /// and 7..9, a niche between), a box 0.6 m square at x 2.1..2.7 turned by `lean` (rad).
 fn corridor(lean: f64) -> (Validity, Prism) {
+    corridor_with(lean, &[])
+}
+
+/// [`corridor`] with `extra` obstacles in it.
+fn corridor_with(lean: f64, extra: &[Prism]) -> (Validity, Prism) {
     let mut prisms = vec![
         common::boxed(1, 0.0, -0.1, 9.0, 0.0, 0.0, 2.0),
         common::boxed(2, 0.0, 1.1, 4.0, 2.2, 0.0, 2.0),
@@ -25,6 +30,7 @@ fn corridor(lean: f64) -> (Validity, Prism) {
         *p = centre + turn * (*p - centre);
     }
     prisms.push(the_box.clone());
+    prisms.extend_from_slice(extra);
     let bounds = Bounds::new(Point2::new(0.0, 0.0), Point2::new(9.0, 2.2)).expect("room bounds");
     let robot = RobotCylinder {
         radius: 0.35,
@@ -66,4 +72,30 @@ fn a_box_whose_outline_leans_is_pushed_along_the_corridor_not_into_its_wall() {
             );
         }
     }
+}
+
+#[test]
+fn a_box_that_every_push_drives_into_a_block_says_what_it_runs_into() {
+    // Invariant: with a fixed block 0.2 m beyond the box across the whole corridor (less than the shortest push, 0.3 m, and its 5 cm clearance), no push of the box is valid, and the planner's error names the block as what the pushes run into.
+    let (blocked, the_box) = corridor_with(0.0, &[common::boxed(5, 2.9, 0.0, 3.2, 1.1, 0.0, 2.0)]);
+    let goal = nudge_motion::GoalRegion::new(Point2::new(8.4, 0.55), 0.2).expect("goal");
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let out = plan_push(
+        &the_box,
+        &blocked,
+        &Point2::new(0.9, 0.55),
+        &goal,
+        &PushConfig::default(),
+        &mut rng,
+    );
+    let Err(nudge_motion::PushError::Blocked(id, by)) = &out else {
+        panic!("expected every push blocked, got {out:?}");
+    };
+    assert_eq!(*id, ObjectId(9));
+    assert!(by.obstacles.contains(&ObjectId(5)), "{by:?}");
+    let message = out.as_ref().expect_err("blocked").to_string();
+    assert!(
+        message.contains("runs into") && message.contains("obj-5"),
+        "{message}"
+    );
 }
