@@ -170,6 +170,9 @@ pub enum PushError {
     /// Every push sweeps the object into another obstacle or a wall, or the robot cannot follow.
     #[error("every push of {0} runs into {1}")]
     Blocked(ObjectId, RunsInto),
+    /// Valid pushes exist, but none opens the way (what a sequence's second push must do).
+    #[error("no push of {0} opens the way")]
+    OpensNoWay(ObjectId),
     /// No valid stand pose can be reached from the robot's position.
     #[error("no valid push of {0} has a reachable stand pose")]
     Unreachable(ObjectId),
@@ -851,8 +854,9 @@ impl SweptPush {
 
 /// Every push of `prism` at `distances` (the face, stand pose and floor rules of [`plan_push_over`])
 /// whose sweep keeps clear of everything else and which the body can follow, whether or not it opens
-/// the way, stand poses nearest `robot` first. [`PushError`] when the object has no pushable face
-/// or no free stand pose.
+/// the way, stand poses nearest `robot` first. [`PushError`] when the object has no pushable face,
+/// no free stand pose, or no such push: [`PushError::Blocked`] saying what the sweeps ran into, or
+/// [`PushError::UnseenFloor`] when one was refused for floor not yet seen.
 pub fn swept_pushes(
     prism: &Prism,
     validity: &Validity,
@@ -876,6 +880,8 @@ pub fn swept_pushes(
     let around = Around::new(object, validity);
     let scene = around.scene(validity, goal, config, floor);
     let mut out = Vec::new();
+    let mut runs_into = RunsInto::default();
+    let mut unseen = false;
     for stance in &stances {
         for &distance in distances {
             // Sweeps only grow with distance: once one is refused, longer ones are too.
@@ -886,11 +892,19 @@ pub fn swept_pushes(
                     distance,
                     end,
                 }),
-                Err(_) => break,
+                Err(miss) => {
+                    unseen |= matches!(miss, Miss::Unseen);
+                    runs_into.note(&miss);
+                    break;
+                }
             }
         }
     }
-    Ok(out)
+    match (out.is_empty(), unseen) {
+        (true, true) => Err(PushError::UnseenFloor(id)),
+        (true, false) => Err(PushError::Blocked(id, runs_into)),
+        (false, _) => Ok(out),
+    }
 }
 
 /// The plan of `push`, its approach planned from `robot`; `None` when no approach is found.

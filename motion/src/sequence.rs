@@ -31,8 +31,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::blocking::{CrossingConfig, cheapest_crossing};
 use crate::problem::{GoalRegion, Problem};
 use crate::push::{
-    PushConfig, PushError, PushPlan, RunsInto, SweptPush, plan_of_swept, plan_push_over,
-    swept_pushes,
+    PushConfig, PushError, PushPlan, SweptPush, plan_of_swept, plan_push_over, swept_pushes,
 };
 use crate::reach::{Change, ReachMemo, certainly_unreachable};
 use crate::seen_floor::FloorCheck;
@@ -249,12 +248,6 @@ fn try_pair(
         })
         .as_ref()
         .map_err(|e| PairMiss::NoFirstPush(e.clone()))?;
-    if pushes.is_empty() {
-        return Err(PairMiss::NoFirstPush(PushError::Blocked(
-            a.id,
-            RunsInto::default(),
-        )));
-    }
     // The second push at the first's few distances: it only has to exist here; the executive plans
     // it again, over the whole range, after a look.
     let coarse = PushConfig {
@@ -282,7 +275,7 @@ fn try_pair(
                 };
                 return Ok(Sequence { first, second });
             }
-            Ok(_) => last = Some(PushError::Blocked(b.id, RunsInto::default())),
+            Ok(_) => last = Some(PushError::OpensNoWay(b.id)),
             Err(e) => last = Some(e),
         }
     }
@@ -391,7 +384,7 @@ mod tests {
 
     #[test]
     fn no_sequence_when_the_far_side_is_blocked_and_every_pair_says_why() {
-        // Invariant: with a bolted block 0.55 m behind the door (the crate cannot be pushed through, and the way round it stays open once both are gone), no sequence is found, and every ordered pair of the candidates is reported with what stopped it; a pair whose removal opens nothing says so.
+        // Invariant: with a bolted block 0.55 m behind the door (the crate cannot be pushed through, and the way round it stays open once both are gone), no sequence is found, and every ordered pair of the candidates is reported with what stopped it, naming the block the crate's pushes run into; a pair whose removal opens nothing says so.
         let (prisms, validity) = room(vec![block(12, 4.85, 1.0, 5.45, 3.0, 1.0)]);
         let records = search(&prisms, &validity, &[2, 1]).expect_err("no sequence");
         assert_eq!(records.len(), 2);
@@ -408,6 +401,8 @@ mod tests {
         for r in &records {
             println!("{r}");
             assert_ne!(r.miss, PairMiss::RemovalDoesNotOpen, "{r}");
+            // The crate's pushes meet the bolted block, and say so.
+            assert!(r.to_string().contains("obj-12"), "{r}");
         }
         // With the door's crate bolted too (not a candidate), the chair alone has no partner.
         let (prisms, validity) = room(vec![block(12, 4.85, 1.0, 5.45, 3.0, 1.0)]);
