@@ -175,3 +175,50 @@ speed = 0.5
         "{effort:?}"
     );
 }
+
+#[test]
+fn a_person_walking_into_a_chair_the_hand_pushes_is_counted_as_a_pushed_object_contact() {
+    // Invariant: while the hand slides a chair, a person whose way runs across the chair's far side touches it, and the run counts that contact of a pushed object with a person (each contact once); the robot's own body and hand touch nobody.
+    let mut s = robot_and(TEST_CHAIR);
+    s.actors = scenario(
+        r#"
+name = "crossing"
+[room]
+size = [6.0, 3.6]
+[robot]
+start = [1.0, 1.8, 0.0]
+[goal]
+position = [5.0, 1.8]
+[[actor]]
+name = "walker"
+waypoints = [[2.25, 0.3], [2.25, 3.3]]
+speed = 0.4
+start_time = 2.0
+"#,
+    )
+    .actors;
+    let mut robot = SimRobot::new(&s, 3).expect("world");
+    robot.advance(0.5).expect("settle");
+    robot.tare().expect("tare");
+    robot
+        .start_guarded_move(GuardedMove {
+            from: Point3::new(0.4, 0.0, 0.43),
+            to: Point3::new(0.75, 0.0, 0.43),
+            speed: 0.02,
+            force_limit: 30.0,
+        })
+        .expect("move accepted");
+    for _ in 0..600 {
+        robot.advance(0.05).expect("advance");
+        if matches!(robot.hand_status().expect("status"), ActionStatus::Done(_)) {
+            break;
+        }
+    }
+    let effort = robot.world().effort();
+    assert!(effort.pushed_into_people >= 1, "{effort:?}");
+    assert!(
+        effort.pushed_into_people <= 3,
+        "one pass, not every step: {effort:?}"
+    );
+    assert_eq!(effort.people_contacts, 0, "{effort:?}");
+}

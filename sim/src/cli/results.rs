@@ -78,6 +78,9 @@ pub struct RunLine {
     /// New contacts with people; absent in a scenario without people.
     #[serde(default)]
     pub people_contacts: Option<u32>,
+    /// New contacts of a pushed object with people; absent in a scenario without people.
+    #[serde(default)]
+    pub pushed_into_people: Option<u32>,
     /// Largest wrist force while the hand pushed (push tests and clearing strokes) as a share of the
     /// force limit in force then (1 = at the limit); absent when the hand never pushed.
     #[serde(default)]
@@ -122,6 +125,7 @@ impl RunLine {
             false_static: m.false_static,
             false_movable: m.false_movable,
             people_contacts: m.people_contacts,
+            pushed_into_people: m.pushed_into_people,
             force_share: done.force_share,
         }
     }
@@ -359,6 +363,7 @@ mod tests {
             false_static: 0,
             false_movable: 0,
             people_contacts: None,
+            pushed_into_people: None,
             force_share: Some(0.9),
         }
     }

@@ -61,7 +61,12 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let report = runner.run();
     let wall = started.elapsed().as_secs_f64();
-    let (_, (_, (recorder, map))) = runner.into_parts();
+    let (robot, (_, (recorder, map))) = runner.into_parts();
+    // Contacts with people, from the simulation's truth, where the scenario has people.
+    let people = (!robot.world().actors().is_empty()).then(|| {
+        let effort = robot.world().effort();
+        (effort.people_contacts, effort.pushed_into_people)
+    });
     if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
         recorder.write_summary(report.robot_time, &RunSummary::of(&report));
         match recorder.finish() {
@@ -80,6 +85,11 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     summarise(&report, wall);
+    if let Some((robot, pushed)) = people {
+        println!(
+            "people       {robot} contact(s) with the robot's body or hand, {pushed} with an object it pushed"
+        );
+    }
     Ok(match report.outcome {
         State::Goal => ExitCode::SUCCESS,
         State::NoPathToGoal(_) => ExitCode::from(EXIT_NO_PATH),

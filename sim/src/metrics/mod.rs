@@ -89,6 +89,8 @@ pub struct RunMetrics {
     pub false_movable: u32,
     /// New contacts of the robot with people, `None` in a scenario without people.
     pub people_contacts: Option<u32>,
+    /// New contacts of an object the hand pushed with people, `None` in a scenario without people.
+    pub pushed_into_people: Option<u32>,
 }
 
 /// Measures a finished run: `start` read before it, `report` and `scored` its outcome and verdicts,
@@ -137,6 +139,7 @@ pub fn measure(start: &Start, report: &RunReport, world: &World, scored: &[Score
         false_static,
         false_movable,
         people_contacts: (!world.actors().is_empty()).then_some(effort.people_contacts),
+        pushed_into_people: (!world.actors().is_empty()).then_some(effort.pushed_into_people),
     }
 }
 

@@ -20,6 +20,8 @@ pub struct Effort {
     pub hand_work: f64,
     /// Times the robot's body or hand came into contact with a person (each new contact once).
     pub people_contacts: u32,
+    /// Times an object the hand was pushing came into contact with a person (each new contact once).
+    pub pushed_into_people: u32,
 }
 
 /// One step's view of the robot, taken before and after the step.
@@ -52,6 +54,13 @@ impl Effort {
     pub(super) fn person_contact(&mut self, was: bool, is: bool) {
         if is && !was {
             self.people_contacts += 1;
+        }
+    }
+
+    /// Counts a contact between a pushed object and a person when one begins.
+    pub(super) fn pushed_into_person(&mut self, was: bool, is: bool) {
+        if is && !was {
+            self.pushed_into_people += 1;
         }
     }
 }

@@ -137,6 +137,8 @@ pub struct World {
     effort: Effort,
     hand_touching: bool,
     touching_person: bool,
+    /// Whether an object the hand pushes touched a person at the last step.
+    pushed_touching_person: bool,
 }
 
 impl World {
@@ -211,6 +213,7 @@ impl World {
             effort: Effort::default(),
             hand_touching: false,
             touching_person: false,
+            pushed_touching_person: false,
         };
         // Settle contacts and fill the query structures before anyone senses.
         world.physics.integration_parameters.dt = 0.0;
@@ -523,6 +526,10 @@ impl World {
             let touching = self.robot_touches_a_person();
             self.effort.person_contact(self.touching_person, touching);
             self.touching_person = touching;
+            let pushed = self.hand_touching && self.pushed_object_touches_a_person();
+            self.effort
+                .pushed_into_person(self.pushed_touching_person, pushed);
+            self.pushed_touching_person = pushed;
         }
     }
 
@@ -530,6 +537,29 @@ impl World {
     fn robot_touches_a_person(&self) -> bool {
         let parts = self.humanoid.parts();
         self.touches_a_person(parts.body_collider) || self.touches_a_person(parts.hand_collider)
+    }
+
+    /// Whether an object the hand touches (pushes) is in contact with any actor.
+    fn pushed_object_touches_a_person(&self) -> bool {
+        let hand = self.humanoid.parts().hand_collider;
+        self.physics
+            .narrow_phase
+            .contact_pairs_with(hand)
+            .filter(|pair| pair.has_any_active_contact())
+            .map(|pair| {
+                if pair.collider1 == hand {
+                    pair.collider2
+                } else {
+                    pair.collider1
+                }
+            })
+            .filter(|other| {
+                matches!(
+                    self.surfaces.get(other).map(|s| s.owner),
+                    Some(crate::surface::Owner::Object(_))
+                )
+            })
+            .any(|object| self.touches_a_person(object))
     }
 
     /// Whether collider `own` is in contact with any actor.
