@@ -194,6 +194,7 @@ struct Tally {
     displaced: f64,
     hand_work: f64,
     people_contacts: Option<u64>,
+    pushed_into_people: Option<u64>,
     expect_met: u32,
     expect_runs: u32,
 }
@@ -262,6 +263,9 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         if let Some(c) = l.people_contacts {
             *t.people_contacts.get_or_insert(0) += u64::from(c);
         }
+        if let Some(c) = l.pushed_into_people {
+            *t.pushed_into_people.get_or_insert(0) += u64::from(c);
+        }
     }
     let width = tallies
         .keys()
@@ -311,9 +315,12 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         let share = t
             .force_share
             .map_or_else(|| "-".to_string(), |f| format!("{f:.2}"));
-        let contacts = t
-            .people_contacts
-            .map_or_else(|| "-".to_string(), |c| c.to_string());
+        // Contacts of the robot with people, then of pushed objects with people where lines say.
+        let contacts = match (t.people_contacts, t.pushed_into_people) {
+            (None, _) => "-".to_string(),
+            (Some(c), None) => c.to_string(),
+            (Some(c), Some(p)) => format!("{c}/{p}"),
+        };
         out.push_str(&format!(
             "{scenario:<width$}  {policy:<8}  {:>4}  {expect:>7}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {share:>7}  {contacts:>8}\n",
             t.runs,
@@ -388,6 +395,34 @@ mod tests {
         let hall = t.lines().find(|l| l.starts_with("hall")).expect("hall row");
         assert!(hall.contains("100.0%"), "{hall}");
         assert!(hall.contains("       -"), "no verdicts shows '-': {hall}");
+    }
+
+    #[test]
+    fn the_table_sums_contacts_with_people_and_of_pushed_objects_with_people() {
+        // Invariant: a row's contacts are the runs' contacts of the robot with people, then of pushed objects with people ("robot/pushed"); lines written before the pushed count show the robot's alone, and a row without people shows "-".
+        let mut lines = [
+            line("crowd", 1, "goal", 0, 0),
+            line("crowd", 2, "goal", 0, 0),
+            line("old", 1, "goal", 0, 0),
+            line("empty", 1, "goal", 0, 0),
+        ];
+        (lines[0].people_contacts, lines[0].pushed_into_people) = (Some(3), Some(1));
+        (lines[1].people_contacts, lines[1].pushed_into_people) = (Some(4), Some(0));
+        lines[2].people_contacts = Some(5);
+        let t = table(&lines, Group::Scenario);
+        let row = |name: &str| {
+            t.lines()
+                .find(|l| l.starts_with(name))
+                .expect("row")
+                .to_string()
+        };
+        assert!(
+            row("crowd").trim_end().ends_with(" 7/1"),
+            "{}",
+            row("crowd")
+        );
+        assert!(row("old").trim_end().ends_with(" 5"), "{}", row("old"));
+        assert!(row("empty").trim_end().ends_with(" -"), "{}", row("empty"));
     }
 
     #[test]
