@@ -125,9 +125,10 @@ pub enum Edge {
     NothingThere,
     /// PushTest → SelectCandidate: ambiguous twice, taken as static.
     AmbiguousTwice,
-    /// PushTest → ClearPath (as [`Edge::FoundMovable`]): ambiguous twice, but in both tests the hand pushed on after contact
-    /// with the force under the limit: the object gave way, whatever ICP could not confirm (a static
-    /// object stops the hand within the wrist's compliance, a millimetre or two).
+    /// PushTest → ClearPath (as [`Edge::FoundMovable`]): ambiguous twice, but in both tests the hand
+    /// pushed on after contact with the force under the limit: the object gave way, whatever ICP
+    /// could not confirm (a static object stops the hand within the wrist's compliance, a millimetre
+    /// or two).
     YieldedTwice,
     /// PushTest → SelectCandidate: the hand met nothing where the object was seen, again after a
     /// second look: a push there tests empty space, so the object gets no verdict (static would be a

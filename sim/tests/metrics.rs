@@ -70,11 +70,9 @@ fn spl_is_zero_on_failure_and_never_above_one() {
     assert!((path_efficiency(true, 4.0, 8.0) - 0.5).abs() < 1e-12);
 }
 
-#[test]
-fn pushing_a_chair_costs_its_friction_times_the_distance_in_hand_work() {
-    // Invariant: the hand's work on a chair it slides is μ m g × the chair's displacement, within 15 %; the impulse is at least μ m g × the sliding time's lower bound; the robot walked nowhere.
-    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
-    let before = robot.world().object_pose(0).expect("chair");
+/// Settles the world, tares the wrist and slides [`TEST_CHAIR`] with one guarded stroke of the hand
+/// (0.35 m at 2 cm/s, 30 N limit), until the stroke ends.
+fn slide_test_chair(robot: &mut SimRobot) {
     robot.advance(0.5).expect("settle");
     robot.tare().expect("tare");
     robot
@@ -91,6 +89,14 @@ fn pushing_a_chair_costs_its_friction_times_the_distance_in_hand_work() {
             break;
         }
     }
+}
+
+#[test]
+fn pushing_a_chair_costs_its_friction_times_the_distance_in_hand_work() {
+    // Invariant: the hand's work on a chair it slides is μ m g × the chair's displacement, within 15 %; the impulse is at least μ m g × the sliding time's lower bound; the robot walked nowhere.
+    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
+    let before = robot.world().object_pose(0).expect("chair");
+    slide_test_chair(&mut robot);
     let after = robot.world().object_pose(0).expect("chair");
     let moved = (after.translation.vector - before.translation.vector)
         .xy()
@@ -179,41 +185,12 @@ speed = 0.5
 #[test]
 fn a_person_walking_into_a_chair_the_hand_pushes_is_counted_as_a_pushed_object_contact() {
     // Invariant: while the hand slides a chair, a person whose way runs across the chair's far side touches it, and the run counts that contact of a pushed object with a person (each contact once); the robot's own body and hand touch nobody.
-    let mut s = robot_and(TEST_CHAIR);
-    s.actors = scenario(
-        r#"
-name = "crossing"
-[room]
-size = [6.0, 3.6]
-[robot]
-start = [1.0, 1.8, 0.0]
-[goal]
-position = [5.0, 1.8]
-[[actor]]
-name = "walker"
-waypoints = [[2.25, 0.3], [2.25, 3.3]]
-speed = 0.4
-start_time = 2.0
-"#,
-    )
-    .actors;
+    // A walker crossing just beyond the chair's far side (x 2.05) once the stroke is under way.
+    let s = robot_and(&format!(
+        "{TEST_CHAIR}\n[[actor]]\nname = \"walker\"\nwaypoints = [[2.25, 0.3], [2.25, 3.3]]\nspeed = 0.4\nstart_time = 2.0"
+    ));
     let mut robot = SimRobot::new(&s, 3).expect("world");
-    robot.advance(0.5).expect("settle");
-    robot.tare().expect("tare");
-    robot
-        .start_guarded_move(GuardedMove {
-            from: Point3::new(0.4, 0.0, 0.43),
-            to: Point3::new(0.75, 0.0, 0.43),
-            speed: 0.02,
-            force_limit: 30.0,
-        })
-        .expect("move accepted");
-    for _ in 0..600 {
-        robot.advance(0.05).expect("advance");
-        if matches!(robot.hand_status().expect("status"), ActionStatus::Done(_)) {
-            break;
-        }
-    }
+    slide_test_chair(&mut robot);
     let effort = robot.world().effort();
     assert!(effort.pushed_into_people >= 1, "{effort:?}");
     assert!(
