@@ -110,8 +110,10 @@ impl Surface {
                 DARK_SHADE + (1.0 - DARK_SHADE) * u
             }
         };
-        self.colour
-            .map(|c| (f64::from(c) * factor).round().clamp(0.0, 255.0) as u8)
+        // The shaded value is never negative, so adding a half and truncating rounds half away from
+        // zero as `round` does, and the saturating cast clamps to 255; `round` itself is a libm call
+        // on baseline x86-64, a fifth of this function's cost per pixel.
+        self.colour.map(|c| (f64::from(c) * factor + 0.5) as u8)
     }
 }
 
