@@ -10,6 +10,8 @@ use std::sync::OnceLock;
 
 use nudge_executive::record::{RUN_METADATA, SUMMARY_METADATA, topics};
 
+mod python_mcap;
+
 const NUDGE: &str = env!("CARGO_BIN_EXE_nudge");
 
 fn scratch(name: &str) -> PathBuf {
@@ -287,20 +289,16 @@ fn the_python_mcap_package_reads_the_recording() {
     // Invariant: the official Python reader sees the same topics, counts, time span, metadata and attachment as the mcap crate.
     let rec = recording();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/read_mcap.py");
-    let out = match Command::new("python3").arg(&script).arg(&rec.mcap).output() {
-        Ok(out) if out.status.code() == Some(3) => {
-            println!("SKIPPED: python mcap not installed (pip install mcap)");
-            return;
-        }
-        Err(e) => {
-            println!("SKIPPED: python mcap not installed (no python3: {e})");
-            return;
-        }
-        Ok(out) => out,
-    };
+    let python = python_mcap::python();
+    let out = Command::new(&python)
+        .arg(&script)
+        .arg(&rec.mcap)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", python.display()));
     assert!(
         out.status.success(),
-        "python reader failed: {}",
+        "the python reader failed (exit 3: mcap not importable in {}): {}",
+        python.display(),
         String::from_utf8_lossy(&out.stderr)
     );
     let py: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON from python");
