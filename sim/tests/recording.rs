@@ -361,9 +361,13 @@ fn a_run_interrupted_by_sigint_leaves_a_complete_recording() {
     );
 }
 
+/// Rows at the top of the `--map` picture that hold the caption (its margin and text) and nothing
+/// else.
+const CAPTION_BAND: u32 = 50;
+
 #[test]
 fn the_map_shows_the_run_with_a_force_panel_per_push_test() {
-    // Invariant: --map writes a PNG with the grid, the robot's track, a movable verdict's colour and the red force limit of the push-test panels.
+    // Invariant: --map writes a PNG with the grid, the robot's track, a movable verdict's colour, the red force limit of the push-test panels, and text (the caption), whatever fonts the machine has.
     let rec = recording();
     assert!(
         rec.stdout.contains("push-test force panels"),
@@ -381,6 +385,16 @@ fn the_map_shows_the_run_with_a_force_panel_per_push_test() {
         "the grid's unknown cells are drawn ({unknown} px)"
     );
     assert!(has([255, 0, 0]), "the force limit's red");
+    // The caption above the map is text, drawn with the font the binary carries: dark glyph pixels
+    // in the band above the map, on any machine (without a font the band stays blank).
+    let caption_ink = (0..image.width())
+        .flat_map(|x| (0..CAPTION_BAND).map(move |y| (x, y)))
+        .filter(|&(x, y)| image.get_pixel(x, y).0.iter().all(|&c| c < 90))
+        .count();
+    assert!(
+        caption_ink > 300,
+        "the caption's text is drawn ({caption_ink} dark px above the map)"
+    );
     // The panels sit below the map: the bottom rows hold the force plots.
     let bottom = image.height() - 120;
     let red_low = (0..image.width())
