@@ -184,7 +184,7 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
 
 #[test]
 fn a_recording_is_stamped_with_robot_time_and_describes_its_run() {
-    // Invariant: log times run from 0 to the run's robot time, never backwards on a topic; metadata and the scenario attachment describe the run; the summary line is logged last.
+    // Invariant: log times run from 0 to the run's robot time, never backwards on a topic; metadata and the scenario attachment describe the run; the first log line is the Start edge out of no state, the summary line is logged last.
     let r = read(&recording().mcap);
     let end = robot_time_ns(&r);
     assert!(
@@ -215,6 +215,13 @@ fn a_recording_is_stamped_with_robot_time_and_describes_its_run() {
     assert_eq!(
         r.attachments["kakiuchi-room.toml"],
         nudge_sim::scenario::DEFAULT_ROOM_TOML.as_bytes()
+    );
+    let first_log = r.logs.first().expect("log messages");
+    let needle = b"(start) -> LookAround (Start)";
+    assert!(
+        first_log.windows(needle.len()).any(|w| w == needle),
+        "the first log line is the Start edge, which leaves no state: {}",
+        String::from_utf8_lossy(first_log)
     );
     let last_log = r.logs.last().expect("log messages");
     let needle = b"run ended: Goal";
