@@ -45,7 +45,8 @@ pub struct Knowledge {
 /// Every edge of the machine, for timelines and coverage.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Edge {
-    /// The run starts with a look-around.
+    /// (no state) → LookAround: the run's first step, which leaves no state. Timelines and observers
+    /// get `None` for the state left; printed and recorded as `(start) -> LookAround (Start)`.
     Start,
     /// LookAround → DetectObjects.
     LookAroundDone,

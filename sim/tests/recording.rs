@@ -10,6 +10,8 @@ use std::sync::OnceLock;
 
 use nudge_executive::record::{RUN_METADATA, SUMMARY_METADATA, topics};
 
+mod python_mcap;
+
 const NUDGE: &str = env!("CARGO_BIN_EXE_nudge");
 
 fn scratch(name: &str) -> PathBuf {
@@ -182,7 +184,7 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
 
 #[test]
 fn a_recording_is_stamped_with_robot_time_and_describes_its_run() {
-    // Invariant: log times run from 0 to the run's robot time, never backwards on a topic; metadata and the scenario attachment describe the run; the summary line is logged last.
+    // Invariant: log times run from 0 to the run's robot time, never backwards on a topic; metadata and the scenario attachment describe the run; the first log line is the Start edge out of no state, the summary line is logged last.
     let r = read(&recording().mcap);
     let end = robot_time_ns(&r);
     assert!(
@@ -213,6 +215,13 @@ fn a_recording_is_stamped_with_robot_time_and_describes_its_run() {
     assert_eq!(
         r.attachments["kakiuchi-room.toml"],
         nudge_sim::scenario::DEFAULT_ROOM_TOML.as_bytes()
+    );
+    let first_log = r.logs.first().expect("log messages");
+    let needle = b"(start) -> LookAround (Start)";
+    assert!(
+        first_log.windows(needle.len()).any(|w| w == needle),
+        "the first log line is the Start edge, which leaves no state: {}",
+        String::from_utf8_lossy(first_log)
     );
     let last_log = r.logs.last().expect("log messages");
     let needle = b"run ended: Goal";
@@ -287,20 +296,16 @@ fn the_python_mcap_package_reads_the_recording() {
     // Invariant: the official Python reader sees the same topics, counts, time span, metadata and attachment as the mcap crate.
     let rec = recording();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/read_mcap.py");
-    let out = match Command::new("python3").arg(&script).arg(&rec.mcap).output() {
-        Ok(out) if out.status.code() == Some(3) => {
-            println!("SKIPPED: python mcap not installed (pip install mcap)");
-            return;
-        }
-        Err(e) => {
-            println!("SKIPPED: python mcap not installed (no python3: {e})");
-            return;
-        }
-        Ok(out) => out,
-    };
+    let python = python_mcap::python();
+    let out = Command::new(&python)
+        .arg(&script)
+        .arg(&rec.mcap)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", python.display()));
     assert!(
         out.status.success(),
-        "python reader failed: {}",
+        "the python reader failed (exit 3: mcap not importable in {}): {}",
+        python.display(),
         String::from_utf8_lossy(&out.stderr)
     );
     let py: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON from python");
@@ -363,9 +368,13 @@ fn a_run_interrupted_by_sigint_leaves_a_complete_recording() {
     );
 }
 
+/// Rows at the top of the `--map` picture that hold the caption (its margin and text) and nothing
+/// else.
+const CAPTION_BAND: u32 = 50;
+
 #[test]
 fn the_map_shows_the_run_with_a_force_panel_per_push_test() {
-    // Invariant: --map writes a PNG with the grid, the robot's track, a movable verdict's colour and the red force limit of the push-test panels.
+    // Invariant: --map writes a PNG with the grid, the robot's track, a movable verdict's colour, the red force limit of the push-test panels, and text (the caption), whatever fonts the machine has.
     let rec = recording();
     assert!(
         rec.stdout.contains("push-test force panels"),
@@ -383,6 +392,16 @@ fn the_map_shows_the_run_with_a_force_panel_per_push_test() {
         "the grid's unknown cells are drawn ({unknown} px)"
     );
     assert!(has([255, 0, 0]), "the force limit's red");
+    // The caption above the map is text, drawn with the font the binary carries: dark glyph pixels
+    // in the band above the map, on any machine (without a font the band stays blank).
+    let caption_ink = (0..image.width())
+        .flat_map(|x| (0..CAPTION_BAND).map(move |y| (x, y)))
+        .filter(|&(x, y)| image.get_pixel(x, y).0.iter().all(|&c| c < 90))
+        .count();
+    assert!(
+        caption_ink > 300,
+        "the caption's text is drawn ({caption_ink} dark px above the map)"
+    );
     // The panels sit below the map: the bottom rows hold the force plots.
     let bottom = image.height() - 120;
     let red_low = (0..image.width())

@@ -3,8 +3,8 @@
 Usage: python3 read_mcap.py FILE.mcap
 
 Prints one JSON object: message counts and schema names per topic, first and last log time (ns),
-metadata records by name, and attachment names. Exit code 3 when the `mcap` package is missing, so
-the Rust test can say it skipped rather than failed.
+metadata records by name, and attachment names. Exit code 3 when the `mcap` package is missing (the
+Rust test runs it with a virtual environment that has it, and fails on any other exit).
 """
 
 import json

@@ -86,10 +86,14 @@ pub struct GridSetup {
     /// movable without a push test. Default 0.3.
     pub passive_share: f64,
     /// Frames from a camera tilted further down than this (rad) stay out of the grid. A frame proves
-    /// a cell free only at the heights its rays pass through there; one whose upper edge dips below
-    /// the horizon sees the floor under a table top and then the top itself, which the passive rules
-    /// would take for something appearing. Default 22°: the SR-4000's upper edge (half of its 43.6°
-    /// vertical field) is then at or above the horizon.
+    /// a cell free only at the heights its rays pass through there; one whose upper edge dips far
+    /// below the horizon sees the floor under a table top and then the top itself, which the passive
+    /// rules would take for something appearing. Default 22°: the 20° frames go in (the
+    /// look-around's shallowest row, the walking and watching frames); the look-around's 30° and 45°
+    /// rows and the looks at an object around a push (42° to 50° in the paper's room) stay out. The value was meant
+    /// as the tilt at which the SR-4000's upper edge reaches the horizon, reading its 43.6°
+    /// horizontal field as the vertical one: with its 34.6° vertical field a 20° frame's upper edge
+    /// lies 2.7° below the horizon.
     pub max_tilt: f64,
     /// An obstacle counts as having moved lately when the grid saw one of its cells (or one next to
     /// them) Moving in a look or a walk within this many seconds (s). Default 30.

@@ -181,7 +181,7 @@ pub struct GridConfig {
     pub moving_step: f64,
     /// A return that rests where something was moving stays moving while other motion is seen this
     /// close in the same frame (the person still pulling the suitcase; the leading corner of a face
-    /// that slides along itself and so looks static in a grid). About an object's size. Default 0.5 m.
+    /// that slides along itself and so looks static in a grid). About an object's size. Default 0.7 m.
     pub rest_radius: f64,
     /// A crossing counts as "well before the return" when the ray goes on at least this far past the
     /// cell: at least a cell over the sine of the grazing limit (0.05 / sin 10° = 0.29 m), the

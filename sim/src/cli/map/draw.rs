@@ -22,6 +22,8 @@ const PANEL_HEIGHT: u32 = 300;
 const PANELS_PER_ROW: u32 = 3;
 /// Space for the caption and the axes around the room (px).
 const CAPTION: u32 = 40;
+/// The caption's font size (px): its line fits the picture's width in the bundled monospaced font.
+const CAPTION_SIZE: u32 = 14;
 const X_AXIS: u32 = 40;
 const Y_AXIS: u32 = 60;
 const MARGIN: u32 = 15;
@@ -91,7 +93,7 @@ fn draw_map(run: &MapCollector, area: &Area<'_>, right: u32) -> DrawResult {
         .margin_right(right);
     if text {
         builder
-            .caption(caption(run), ("sans-serif", 20))
+            .caption(caption(run), ("sans-serif", CAPTION_SIZE))
             .x_label_area_size(X_AXIS)
             .y_label_area_size(Y_AXIS);
     } else {

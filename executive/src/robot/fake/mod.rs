@@ -1,9 +1,22 @@
 //! A scripted in-memory robot for unit tests: no physics, no sensors, just the adapter contract.
 //!
-//! It walks straight lines at a fixed speed, turns at a fixed rate, moves the head at a fixed rate,
-//! returns scripted clouds, and answers guarded moves from a scripted object in front of the hand: a
-//! static one (a stiff spring) or a sliding one (constant friction force). Failures can be injected
-//! per capability. Time passes only through [`Clock::advance`], in 1 ms substeps (the wrist rate).
+//! It walks straight lines at a fixed speed (through anything; a walk can be scripted to stop
+//! blocked), turns at a fixed rate, moves the head at a fixed rate, and answers guarded moves from a
+//! scripted object: a static one (a stiff spring), a sliding one (constant friction force) or one
+//! that slides and then jams. The object is either put in front of the hand for every move
+//! ([`FakeRobot::set_object`]) or met where it stands in a scripted world of boxes
+//! ([`FakeRobot::set_scene`]), which the camera then shows, moved by the pushes, as organised colour
+//! clouds. Clouds can also be queued. Failures can be injected per capability. Time passes only
+//! through [`Clock::advance`], in 1 ms substeps (the wrist rate).
+
+mod object;
+mod render;
+mod scene;
+
+use object::Contact;
+pub use object::{ObjectResponse, ScriptedObject};
+pub use render::FakeCamera;
+pub use scene::{FakeScene, SceneBox};
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -19,30 +32,6 @@ use super::{
 
 /// Substep of the fake's simulation and period of its wrist sensor (s).
 const SUBSTEP: f64 = 0.001;
-
-/// How the scripted object in front of the hand answers a push.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ObjectResponse {
-    /// A static object: force grows with penetration at this stiffness (N/m).
-    Static {
-        /// Contact stiffness (N/m).
-        stiffness: f64,
-    },
-    /// A movable object sliding at a constant friction force (N) once touched.
-    Sliding {
-        /// Friction force while sliding (N).
-        force: f64,
-    },
-}
-
-/// An object the next guarded moves touch after `contact_at` metres along their line.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ScriptedObject {
-    /// Distance along the move's line where the hand first touches (m).
-    pub contact_at: f64,
-    /// How the object answers.
-    pub response: ObjectResponse,
-}
 
 #[derive(Clone, Debug)]
 enum BaseMotion {
@@ -80,6 +69,8 @@ pub struct FakeRobot {
     hand_motion: Option<HandMotion>,
     hand_done: Option<HandOutcome>,
     object: Option<ScriptedObject>,
+    scene: Option<FakeScene>,
+    contact: Option<Contact>,
     force: Vector3<f64>,
     bias: Vector3<f64>,
     tare: Vector3<f64>,
@@ -110,6 +101,8 @@ impl FakeRobot {
             hand_motion: None,
             hand_done: None,
             object: None,
+            scene: None,
+            contact: None,
             force: Vector3::zeros(),
             bias: Vector3::new(0.8, -0.4, 1.1),
             tare: Vector3::zeros(),
@@ -125,8 +118,20 @@ impl FakeRobot {
     }
 
     /// Puts a scripted object in front of the hand for the next guarded moves (`None` removes it).
+    /// It takes precedence over the scene's boxes.
     pub fn set_object(&mut self, object: Option<ScriptedObject>) {
         self.object = object;
+    }
+
+    /// Puts the robot in a scripted world: the camera shows it (when no cloud is queued) and guarded
+    /// moves meet its boxes where they stand.
+    pub fn set_scene(&mut self, scene: FakeScene) {
+        self.scene = Some(scene);
+    }
+
+    /// The scripted world as it is now (boxes where the pushes left them): the ground truth.
+    pub fn scene(&self) -> Option<&FakeScene> {
+        self.scene.as_ref()
     }
 
     /// Makes the next walk stop, blocked, after `distance` metres.
@@ -147,6 +152,38 @@ impl FakeRobot {
     fn call(&mut self, capability: &'static str, what: String) -> Result<(), RobotError> {
         self.calls.push(what);
         self.failures.remove(capability).map_or(Ok(()), Err)
+    }
+
+    /// What `motion` will meet: the scripted object in front of the hand, else the first scene box
+    /// on its line (cast from the base as it stands now).
+    fn contact_for(&self, motion: &GuardedMove) -> Option<Contact> {
+        let dir = motion.direction()?;
+        let map_dir = self.pose.rotation * Vector2::new(dir.x, dir.y);
+        if let Some(object) = self.object {
+            return Some(Contact {
+                at: object.contact_at,
+                response: object.response,
+                give: object.response.give(0.0),
+                target: None,
+                direction: map_dir,
+                pushed: 0.0,
+            });
+        }
+        let scene = self.scene.as_ref()?;
+        let from = self.pose * Point2::new(motion.from.x, motion.from.y);
+        let horizontal = map_dir.try_normalize(1e-9)?;
+        let (i, t) = scene.first_hit(&from, &horizontal, motion.from.z)?;
+        // Along the line, not its horizontal part: the same for the level pushes the runner makes.
+        let at = t / map_dir.norm().max(1e-9);
+        let target = &scene.boxes[i];
+        Some(Contact {
+            at,
+            response: target.response,
+            give: target.response.give(target.moved),
+            target: Some(i),
+            direction: horizontal,
+            pushed: 0.0,
+        })
     }
 
     fn sensor_pose(&self) -> Isometry3<f64> {
@@ -260,26 +297,23 @@ impl FakeRobot {
                 };
                 let length = (motion.to - motion.from).norm();
                 let next = (*travelled + motion.speed * SUBSTEP).min(length);
-                let force = match self.object {
-                    Some(ScriptedObject {
-                        contact_at,
-                        response,
-                    }) if next > contact_at => match response {
-                        ObjectResponse::Static { stiffness } => stiffness * (next - contact_at),
-                        ObjectResponse::Sliding { force } => force,
-                    },
-                    _ => 0.0,
-                };
+                let (force, holds) = self.contact.map_or((0.0, false), |c| {
+                    let depth = next - c.at;
+                    (c.response.force(depth, c.give), depth > c.give)
+                });
                 let limit = motion.force_limit;
-                let stopped = matches!(
-                    self.object,
-                    Some(ScriptedObject {
-                        response: ObjectResponse::Static { .. },
-                        ..
-                    })
-                ) && force >= limit;
+                let stopped = holds && force >= limit;
                 let travel = if stopped { *travelled } else { next };
                 *travelled = travel;
+                if let Some(c) = self.contact.as_mut() {
+                    let pushed = (travel - c.at).clamp(0.0, c.give);
+                    if let (Some(i), Some(scene)) = (c.target, self.scene.as_mut())
+                        && pushed > c.pushed
+                    {
+                        scene.boxes[i].shift(&(c.direction * (pushed - c.pushed)));
+                    }
+                    c.pushed = pushed;
+                }
                 self.hand_pos = motion.from + dir * travel;
                 self.force = -dir * force;
                 let tared = (self.force + self.bias - self.tare).norm();
@@ -411,10 +445,11 @@ impl RangeCamera for FakeRobot {
     fn capture(&mut self) -> Result<ColourCloud, RobotError> {
         self.call("camera", "capture".into())?;
         let pose = self.sensor_pose();
-        Ok(self
-            .clouds
-            .pop_front()
-            .unwrap_or_else(|| ColourCloud::empty(CloudFrame::Sensor, pose, self.now)))
+        Ok(match (self.clouds.pop_front(), &self.scene) {
+            (Some(cloud), _) => cloud,
+            (None, Some(scene)) => render::render(scene, &pose, self.now),
+            (None, None) => ColourCloud::empty(CloudFrame::Sensor, pose, self.now),
+        })
     }
 }
 
@@ -463,6 +498,7 @@ impl Arm for FakeRobot {
             });
         }
         self.hand_done = None;
+        self.contact = self.contact_for(&motion);
         self.hand_motion = Some(HandMotion::Guarded {
             motion,
             travelled: 0.0,
@@ -497,98 +533,4 @@ impl Arm for FakeRobot {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn run_until_hand_done(robot: &mut FakeRobot) -> HandOutcome {
-        for _ in 0..100_000 {
-            if let Ok(ActionStatus::Done(outcome)) = robot.hand_status() {
-                return outcome;
-            }
-            robot.advance(0.01).expect("advance");
-        }
-        panic!("hand never finished");
-    }
-
-    fn push(limit: f64) -> GuardedMove {
-        GuardedMove {
-            from: Point3::new(0.3, 0.0, 0.7),
-            to: Point3::new(0.7, 0.0, 0.7),
-            speed: 0.1,
-            force_limit: limit,
-        }
-    }
-
-    #[test]
-    fn a_static_object_stops_the_guarded_move_at_the_limit() {
-        // Invariant: against a stiff object the tared force norm stops the hand at the limit, within 10 %.
-        let mut robot = FakeRobot::new(Isometry2::identity());
-        robot.tare().expect("tare");
-        robot.set_object(Some(ScriptedObject {
-            contact_at: 0.1,
-            response: ObjectResponse::Static {
-                stiffness: 20_000.0,
-            },
-        }));
-        robot.start_guarded_move(push(20.0)).expect("start");
-        match run_until_hand_done(&mut robot) {
-            HandOutcome::ForceLimit { wrench, at } => {
-                let f = wrench.value.force_norm();
-                assert!((20.0..=22.0).contains(&f), "stopped at {f} N");
-                assert!((at.x - 0.4).abs() < 0.005, "hand stopped at {at}");
-            }
-            other => panic!("expected ForceLimit, got {other:?}"),
-        }
-    }
-
-    #[test]
-    fn a_sliding_object_lets_the_hand_reach_the_end_below_the_limit() {
-        // Invariant: a sliding object under the limit never stops the move; the trace shows its friction force.
-        let mut robot = FakeRobot::new(Isometry2::identity());
-        robot.tare().expect("tare");
-        robot.set_object(Some(ScriptedObject {
-            contact_at: 0.1,
-            response: ObjectResponse::Sliding { force: 12.0 },
-        }));
-        robot.start_guarded_move(push(20.0)).expect("start");
-        assert_eq!(run_until_hand_done(&mut robot), HandOutcome::Reached);
-        let peak = robot
-            .drain_wrenches()
-            .expect("drain")
-            .iter()
-            .map(|s| s.value.force_norm())
-            .fold(0.0, f64::max);
-        assert!((peak - 12.0).abs() < 1e-9, "peak {peak}");
-    }
-
-    #[test]
-    fn a_scripted_block_stops_the_walk_at_that_distance() {
-        // Invariant: a walk blocked after d metres reports Blocked at d along the path.
-        let mut robot = FakeRobot::new(Isometry2::identity());
-        robot.block_next_walk_after(0.5);
-        robot.start_walk(&[Point2::new(2.0, 0.0)]).expect("walk");
-        let outcome = loop {
-            if let ActionStatus::Done(o) = robot.walk_status().expect("status") {
-                break o;
-            }
-            robot.advance(0.1).expect("advance");
-        };
-        match outcome {
-            WalkOutcome::Blocked { at } => assert!((at.translation.x - 0.5).abs() < 0.01),
-            other => panic!("expected Blocked, got {other:?}"),
-        }
-    }
-
-    #[test]
-    fn an_injected_failure_fails_exactly_the_next_call() {
-        // Invariant: fail_next makes one call of that capability fail, then the robot works again.
-        let mut robot = FakeRobot::new(Isometry2::identity());
-        let err = RobotError::Timeout {
-            capability: "camera",
-            seconds: 1.0,
-        };
-        robot.fail_next("camera", err.clone());
-        assert_eq!(robot.capture(), Err(err));
-        assert!(robot.capture().is_ok());
-    }
-}
+mod tests;
