@@ -209,22 +209,12 @@ fn try_input(text: &str, index: u64) -> Verdict {
 
 /// Whether a loader error names the origin and a line and column inside `text`.
 fn check_place(text: &str, error: &ScenarioError) -> Result<(), String> {
-    let ScenarioError::Invalid(invalid) = error else {
-        return Err(format!("not a located error: {error}"));
-    };
-    let lines: Vec<&str> = text.split('\n').collect();
-    let line = lines
-        .get(invalid.line.wrapping_sub(1))
-        .ok_or_else(|| format!("line {} of {}: {invalid}", invalid.line, lines.len()))?;
-    let width = line.chars().count() + 1;
-    if invalid.column == 0 || invalid.column > width {
-        return Err(format!(
-            "column {} on a line {width} wide: {invalid}",
-            invalid.column
-        ));
-    }
-    if !invalid.to_string().starts_with("fuzz.toml:") {
-        return Err(format!("message does not start with the origin: {invalid}"));
+    let invalid = error
+        .invalid()
+        .ok_or_else(|| format!("not a located error: {error}"))?;
+    invalid.place_within(text)?;
+    if invalid.origin != "fuzz.toml" {
+        return Err(format!("the error names another origin: {invalid}"));
     }
     Ok(())
 }

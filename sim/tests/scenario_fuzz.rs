@@ -12,17 +12,7 @@ fn load_and_check_place(text: &str) -> Result<(), String> {
             .map_err(|v| format!("loaded but invalid: {v}")),
         Err(ScenarioError::Io { .. }) => Err("an io error from a string".into()),
         Err(ScenarioError::Invalid(invalid)) => {
-            let lines: Vec<&str> = text.split('\n').collect();
-            let line = lines
-                .get(invalid.line.wrapping_sub(1))
-                .ok_or_else(|| format!("line {} of {}: {invalid}", invalid.line, lines.len()))?;
-            let width = line.chars().count() + 1;
-            if invalid.column == 0 || invalid.column > width {
-                return Err(format!(
-                    "column {} on a line {width} wide: {invalid}",
-                    invalid.column
-                ));
-            }
+            invalid.place_within(text)?;
             if !invalid.to_string().starts_with("fuzz.toml:") {
                 return Err(format!("message does not start with the origin: {invalid}"));
             }

@@ -53,6 +53,26 @@ pub struct InvalidScenario {
     pub fault: ScenarioFault,
 }
 
+impl InvalidScenario {
+    /// Whether this fault's place lies inside `text`, the text it was found in: its line exists and
+    /// its column falls on that line or just past its end. `Err` says how it misses. A fault that
+    /// points outside its text sends a user to the wrong place; the loader's fuzz tests hold it to this.
+    pub fn place_within(&self, text: &str) -> Result<(), String> {
+        let line = text
+            .split('\n')
+            .nth(self.line.wrapping_sub(1))
+            .ok_or_else(|| format!("line {} of {}: {self}", self.line, text.split('\n').count()))?;
+        let width = line.chars().count() + 1;
+        if self.column == 0 || self.column > width {
+            return Err(format!(
+                "column {} on a line {width} wide: {self}",
+                self.column
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl fmt::Display for InvalidScenario {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}:{}:{}: ", self.origin, self.line, self.column)?;
