@@ -69,7 +69,8 @@ pub fn sweep_blocked(
 /// the signed distance of a point to their Minkowski difference, a convex set). So if it does not
 /// fall over the first centimetre, its slope there is at least −rounding per centimetre, and it
 /// can fall at most that fast over the rest. Along a face a few thousandths of a radian off
-/// parallel, that is still a millimetre or more over a long push: the end is checked too.
+/// parallel, that is still a millimetre or more over a long push, so the end is checked too;
+/// between the two, a push bending round a corner may still dip by that slope times its length.
 fn parts_from(object: &Obstacle, offset: &Vector2<f64>, other: &Obstacle) -> bool {
     /// A first step, short against any push, long against parry's f32 rounding.
     const STEP: f64 = 0.01;

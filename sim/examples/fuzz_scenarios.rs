@@ -125,7 +125,8 @@ fn main() -> ExitCode {
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let slow = Duration::from_millis(options.slow_ms);
     let started = Instant::now();
-    let (mut loaded, mut findings, mut slowest) = (0u64, 0u64, Duration::ZERO);
+    let (mut loaded, mut refused, mut findings) = (0u64, 0u64, 0u64);
+    let mut slowest = Duration::ZERO;
     for i in 0..options.inputs {
         let text = mutate(&corpus, &mut rng);
         let t0 = Instant::now();
@@ -134,7 +135,11 @@ fn main() -> ExitCode {
         slowest = slowest.max(took);
         let finding = match verdict {
             Verdict::Fine { loaded: l } => {
-                loaded += u64::from(l);
+                if l {
+                    loaded += 1;
+                } else {
+                    refused += 1;
+                }
                 (took > slow).then(|| format!("slow: {} ms", took.as_millis()))
             }
             Verdict::Misplaced(why) => Some(format!("misplaced error: {why}")),
@@ -154,7 +159,7 @@ fn main() -> ExitCode {
         options.inputs,
         options.seed,
         loaded,
-        options.inputs - loaded - findings,
+        refused,
         findings,
         slowest.as_secs_f64() * 1e3,
         wall.as_secs_f64(),

@@ -18,7 +18,7 @@ use clap::Parser;
 use nudge_executive::record::NullObserver;
 use nudge_executive::{CandidatePolicy, Verdict};
 use nudge_sim::run::run;
-use nudge_sim::scenario::Scenario;
+use nudge_sim::scenario::{GRAVITY, Scenario};
 use nudge_sim::truth::{MOVABLE_MARGIN, PUSH_FORCE_LIMIT};
 
 /// Command-line options.
@@ -30,8 +30,6 @@ struct Options {
     seeds: u64,
 }
 
-/// Standard gravity (m/s²), as the truth uses it.
-const G: f64 = 9.81;
 /// Box masses tried (kg).
 const MASSES: [f64; 7] = [2.0, 4.0, 6.0, 8.0, 12.0, 16.0, 20.0];
 /// Friction coefficients tried.
@@ -72,7 +70,7 @@ fn main() -> ExitCode {
     let (mut scored, mut right, mut over_midpoint, mut movable_tests) = (0, 0, 0, 0);
     for mass in MASSES {
         for friction in FRICTIONS {
-            let slide = friction * mass * G;
+            let slide = friction * mass * GRAVITY;
             if !(0.4 * PUSH_FORCE_LIMIT..=1.5 * PUSH_FORCE_LIMIT).contains(&slide) {
                 continue;
             }

@@ -19,8 +19,6 @@ pub const MOVABLE_MARGIN: f64 = 0.8;
 pub const MOVING_SPEED: f64 = 0.05;
 /// Objects whose top is at most this high are flat on the floor and not obstacles (m).
 pub const FLAT: f64 = 0.02;
-/// Standard gravity (m/s²).
-const G: f64 = 9.81;
 
 /// Whether an object moves when pushed with the guarded push.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,7 +62,7 @@ impl<'a> Truth<'a> {
     pub fn movability(&self, i: usize) -> Option<Movability> {
         let (spec, _) = self.world.objects().get(i)?;
         let dynamic = !crate::world::build::is_fixed(spec);
-        let slide = spec.friction * spec.mass * G;
+        let slide = spec.sliding_force();
         Some(if dynamic && slide < MOVABLE_MARGIN * PUSH_FORCE_LIMIT {
             Movability::Movable
         } else {
