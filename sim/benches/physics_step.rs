@@ -56,6 +56,7 @@ fn pushing() -> SimRobot {
         to: Point3::new(0.8, 0.0, 0.43),
         speed: 0.05,
         force_limit: 40.0,
+        acceleration: None,
     };
     r.start_guarded_move(push).expect("push");
     r.advance(3.0).expect("reach the chair");
@@ -72,6 +73,7 @@ fn clearing() -> SimRobot {
         to: Point3::new(0.8, 0.0, 0.43),
         speed: 0.02,
         force_limit: 30.0,
+        acceleration: None,
     };
     r.start_guarded_move(push).expect("push");
     r.advance(4.0).expect("reach the chair and press");
@@ -139,6 +141,7 @@ fn paper_run(frames: bool) -> f64 {
         to: Point3::new(0.8, 0.0, 0.7),
         speed: 0.05,
         force_limit: 20.0,
+        acceleration: None,
     };
     r.start_guarded_move(table).expect("push table");
     wait_hand(&mut r);
@@ -159,6 +162,7 @@ fn paper_run(frames: bool) -> f64 {
         to: Point3::new(0.7, 0.0, 0.43),
         speed: 0.05,
         force_limit: 20.0,
+        acceleration: None,
     };
     r.start_guarded_move(chair).expect("push chair");
     wait_hand(&mut r);

@@ -1,16 +1,16 @@
 //! The push test over a sweep of objects: each mass × friction pair (the sliding force μmg from 0.4 to
 //! 1.5 times the 20 N limit) is a box filling a corridor, and the executive, run in the simulation,
-//! must push-test it to get by. For each box and seed: the first test's peak force, its verdict, the
-//! truth, and whether a movable box's peak stayed under the midpoint between μmg and the limit (the
-//! margin #22 asks of the push test). Boxes in the band the truth does not score (μmg from 80 % of the
+//! must push-test it to get by. For each box and seed: the highest peak force of its push tests (a
+//! retest included), its verdict, the truth, and whether a movable box's peak stayed under the
+//! midpoint between μmg and the limit (the margin #22 asks of the push test). Boxes in the band the truth does not score (μmg from 80 % of the
 //! limit up to the limit) are listed but not counted.
 //!
 //! ```text
 //! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3
 //! ```
 //!
-//! It exits non-zero when a scored verdict is wrong; a peak over the midpoint is reported, not failed
-//! (today's push test does not have that margin).
+//! It exits non-zero when a scored verdict is wrong or a movable box's peak is at or over the
+//! midpoint.
 
 use std::process::ExitCode;
 
@@ -107,6 +107,14 @@ fn main() -> ExitCode {
                     }
                     continue;
                 };
+                let peak = report
+                    .knowledge
+                    .explanation
+                    .tests
+                    .iter()
+                    .filter(|t| t.object == test.object)
+                    .map(|t| t.peak_force)
+                    .fold(0.0, f64::max);
                 let verdict = report.knowledge.explanation.verdicts.get(&test.object);
                 let said = match verdict {
                     Some(Verdict::Movable) => "movable",
@@ -124,14 +132,14 @@ fn main() -> ExitCode {
                 }
                 if truth == "movable" {
                     movable_tests += 1;
-                    if test.peak_force >= midpoint {
+                    if peak >= midpoint {
                         over_midpoint += 1;
                         note.push_str("over the midpoint");
                     }
                 }
                 println!(
                     "{mass:4.0}  {friction:.1}  {slide:5.1}  {truth:8}  {seed:4}  {:5.1}   {said:8}  {midpoint:5.1}     {note}",
-                    test.peak_force
+                    peak
                 );
             }
         }
@@ -139,7 +147,7 @@ fn main() -> ExitCode {
     println!(
         "{right} of {scored} scored verdicts right; {over_midpoint} of {movable_tests} movable boxes' test peaks at or over the midpoint between μmg and the limit"
     );
-    if right == scored {
+    if right == scored && over_midpoint == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE

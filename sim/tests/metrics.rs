@@ -81,6 +81,7 @@ fn slide_test_chair(robot: &mut SimRobot) {
             to: Point3::new(0.75, 0.0, 0.43),
             speed: 0.02,
             force_limit: 30.0,
+            acceleration: None,
         })
         .expect("move accepted");
     for _ in 0..600 {

@@ -29,6 +29,7 @@ fn run(seed: u64) -> (Vec<Stamped<Wrench>>, Vec<Isometry3<f64>>) {
         to: Point3::new(0.75, 0.0, 0.43),
         speed: 0.05,
         force_limit: 40.0,
+        acceleration: None,
     };
     robot.start_guarded_move(push).expect("push");
     let mut poses = Vec::new();

@@ -50,6 +50,7 @@ fn sliding_chair_reads_its_friction_force() {
         to: Point3::new(0.75, 0.0, 0.43),
         speed: 0.05,
         force_limit: 40.0,
+        acceleration: None,
     };
     let (trace, outcome) = push(&mut robot, motion);
     assert_eq!(outcome, HandOutcome::Reached);
@@ -105,6 +106,7 @@ fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
         to: Point3::new(0.7, 0.0, 0.43),
         speed: 0.02,
         force_limit: 40.0,
+        acceleration: None,
     };
     let (trace, outcome) = push(&mut robot, motion);
     assert_eq!(outcome, HandOutcome::Reached);
@@ -112,6 +114,60 @@ fn a_chair_sliding_at_the_executives_speed_reads_mu_m_g_throughout() {
     let stop = trace.last().expect("trace").t;
     let forces: Vec<(f64, f64)> = trace.iter().map(|s| (s.t, s.force)).collect();
     assert_slides_at(&forces, contact, stop, TEST_CHAIR_MU_M_G);
+}
+
+/// Runs `motion` to its end in 1 ms ticks without settling or taring; the peak force and the outcome.
+fn run_on(robot: &mut SimRobot, motion: GuardedMove) -> (f64, HandOutcome) {
+    robot.start_guarded_move(motion).expect("move accepted");
+    let mut peak: f64 = 0.0;
+    for _ in 0..30_000 {
+        robot.advance(0.001).expect("advance");
+        for w in robot.drain_wrenches().expect("drain") {
+            peak = peak.max(w.value.force_norm());
+        }
+        if let ActionStatus::Done(outcome) = robot.hand_status().expect("status") {
+            return (peak, outcome);
+        }
+    }
+    panic!("move did not end in 30 s");
+}
+
+#[test]
+fn a_touch_then_a_gentle_press_meets_the_chair_without_a_transient() {
+    // Invariant: a hand that touches the 4 kg chair at 2 cm/s, stops at 5 N and presses on with its speed ramped at 1 cm/s² peaks under the midpoint between μmg and the 20 N limit over the whole stroke (the chair sliding 12 cm), where a stroke meeting it at 2 cm/s peaks over that midpoint at first contact.
+    let line = |from: Point3<f64>, force_limit, acceleration| GuardedMove {
+        from,
+        to: Point3::new(0.7, 0.0, 0.43),
+        speed: 0.02,
+        force_limit,
+        acceleration,
+    };
+    let start = Point3::new(0.4, 0.0, 0.43);
+    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
+    robot.advance(0.5).expect("settle");
+    robot.tare().expect("tare");
+    robot.drain_wrenches().expect("drain");
+    let (touch_peak, touched) = run_on(&mut robot, line(start, 5.0, None));
+    let HandOutcome::ForceLimit { at, .. } = touched else {
+        panic!("the touch ended {touched:?}");
+    };
+    let (press_peak, pressed) = run_on(&mut robot, line(at, 20.0, Some(0.01)));
+    assert_eq!(pressed, HandOutcome::Reached, "the chair slides");
+    let midpoint = (TEST_CHAIR_MU_M_G + 20.0) / 2.0;
+    println!("touch {touch_peak:.2} N, press {press_peak:.2} N, μmg {TEST_CHAIR_MU_M_G:.2} N");
+    assert!(touch_peak < 6.0, "touch peaked at {touch_peak:.2} N");
+    assert!(press_peak < midpoint, "press peaked at {press_peak:.2} N");
+
+    let mut robot = SimRobot::new(&robot_and(TEST_CHAIR), 3).expect("world");
+    robot.advance(0.5).expect("settle");
+    robot.tare().expect("tare");
+    robot.drain_wrenches().expect("drain");
+    let (stroke_peak, _) = run_on(&mut robot, line(start, 40.0, None));
+    println!("one stroke at 2 cm/s: {stroke_peak:.2} N");
+    assert!(
+        stroke_peak > midpoint,
+        "a plain stroke peaked at {stroke_peak:.2} N: the comparison shows nothing"
+    );
 }
 
 #[test]
@@ -128,6 +184,7 @@ fn fixed_table_stops_the_push_at_the_limit() {
         to: Point3::new(0.8, 0.0, 0.70),
         speed: 0.05,
         force_limit: 20.0,
+        acceleration: None,
     };
     let (trace, outcome) = push(&mut robot, motion);
     let HandOutcome::ForceLimit { wrench, at } = outcome else {
@@ -168,6 +225,7 @@ fn walking_with_the_hand_out_pushes_the_chair_along() {
         to: Point3::new(0.7, 0.0, 0.43),
         speed: 0.05,
         force_limit: 3.0,
+        acceleration: None,
     };
     let (_, outcome) = push(&mut robot, reach);
     assert!(
@@ -216,6 +274,7 @@ fn commands_outside_the_workspace_are_refused() {
         to: Point3::new(0.8, 0.0, 0.7),
         speed: 0.05,
         force_limit: 20.0,
+        acceleration: None,
     };
     let bad = [
         GuardedMove {
@@ -240,6 +299,7 @@ fn commands_outside_the_workspace_are_refused() {
         },
         GuardedMove {
             force_limit: f64::NAN,
+            acceleration: None,
             ..ok.clone()
         },
     ];

@@ -60,6 +60,7 @@ fn line(limit: f64) -> GuardedMove {
         to: Point3::new(0.75, 0.0, 0.43),
         speed: PUSH_SPEED,
         force_limit: limit,
+        acceleration: None,
     }
 }
 

@@ -108,6 +108,7 @@ fn walking_with_the_hand_out_into_a_wall_stops_on_overload() {
         to: Point3::new(0.6, 0.0, 1.0),
         speed: 0.05,
         force_limit: 20.0,
+        acceleration: None,
     };
     robot.start_guarded_move(hold).expect("hand out");
     robot.advance(10.0).expect("hand out");

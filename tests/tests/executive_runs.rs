@@ -11,7 +11,7 @@ use nudge_perception::grid::{CellClass, CellIndex, Evidence};
 use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
-use nudge_sim::truth::{Movability, Truth};
+use nudge_sim::truth::{MOVABLE_MARGIN, Movability, PUSH_FORCE_LIMIT, Truth};
 use nudge_tests::print_timeline;
 use nudge_tests::truth::{Scored, score};
 
@@ -59,6 +59,35 @@ fn assert_force_within_limit(report: &RunReport) {
     }
 }
 
+/// Every push test of an object the truth calls movable peaked under the midpoint between the
+/// object's sliding force (μmg) and the force limit: the test's first contact leaves a movable
+/// object margin, it does not read it as static by a transient.
+fn assert_movable_peaks_have_margin(name: &str, report: &RunReport, scored: &[Scored]) {
+    let scenario = nudge_tests::scenario(name).expect("scenario loads");
+    let limit = PUSH_FORCE_LIMIT;
+    for t in &report.knowledge.explanation.tests {
+        let Some(spec) = scored
+            .iter()
+            .find(|s| s.id == t.object)
+            .and_then(|s| s.object.as_deref())
+            .and_then(|n| scenario.objects.iter().find(|o| o.name == n))
+        else {
+            continue;
+        };
+        if spec.fixed || spec.elevation > 0.0 || spec.sliding_force() >= MOVABLE_MARGIN * limit {
+            continue;
+        }
+        let midpoint = (spec.sliding_force() + limit) / 2.0;
+        assert!(
+            t.peak_force < midpoint,
+            "push test of movable {} (μmg {:.1} N) peaked at {:.1} N, over the midpoint {midpoint:.1} N",
+            spec.name,
+            spec.sliding_force(),
+            t.peak_force
+        );
+    }
+}
+
 fn named<'a>(scored: &'a [Scored], name: &str) -> Option<&'a Scored> {
     scored.iter().find(|s| s.object.as_deref() == Some(name))
 }
@@ -70,6 +99,7 @@ fn the_papers_room_reaches_the_goal_testing_the_table_first() {
     assert_eq!(report.outcome, State::Goal);
     assert_all_correct(&scored);
     assert_force_within_limit(&report);
+    assert_movable_peaks_have_margin("kakiuchi-room", &report, &scored);
     let tests = &report.knowledge.explanation.tests;
     let first = tests.first().expect("at least one push test");
     assert_eq!(

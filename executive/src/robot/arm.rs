@@ -15,6 +15,11 @@ pub struct GuardedMove {
     pub speed: f64,
     /// The move stops when the norm of the tared wrist force reaches this (N).
     pub force_limit: f64,
+    /// Largest acceleration of the hand along the line (m/s²); `None`: the arm's own. A move that
+    /// starts with the hand against something raises the force at the wrist's stiffness times the
+    /// hand's speed, so a gentle speed ramp is a gentle force ramp: the object breaks free while the
+    /// hand is still slow, and its start from rest barely adds to the force.
+    pub acceleration: Option<f64>,
 }
 
 impl GuardedMove {

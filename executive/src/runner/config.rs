@@ -31,6 +31,23 @@ pub struct PushMotionConfig {
     pub test_travel: f64,
     /// Force norm above which the hand counts as touching (N).
     pub contact_threshold: f64,
+    /// Guard of a stroke's touch (N): the hand moves at its leg's speed until it reads this, stops,
+    /// and presses on from there (see [`Self::press_acceleration`]). A touch reads the wrist's
+    /// damping × speed at once and its stiffness × speed per control period on top of the guard,
+    /// about 4.5 N at 2 cm/s with the paper's wrist (20 kN/m, 200 N·s/m, 1 kHz): 5 N keeps a touch
+    /// under 10 N, half the 20 N limit, the least margin any object can need (the midpoint between
+    /// a weightless object's sliding force and the limit), and 25 times the wrist's noise above zero.
+    pub touch_force: f64,
+    /// Largest acceleration of the hand while it presses on from a touch (m/s²). Against an object
+    /// that holds, the force rises at the wrist's stiffness × the hand's speed, so the hand reaches
+    /// the object's sliding force F at the speed √(2·a·ΔF/k) and the object starts from rest with
+    /// the hand moving at that speed: an excess of at most speed × √(k·m) over F (a mass on a
+    /// spring; damping only lowers it). Pressing ΔF = 15 N more (5 N to the 20 N limit) at 0.01 m/s²
+    /// breaks a 20 kg object (the heaviest the limit slides on floors with μ ≥ 0.1) free at 3.9
+    /// mm/s, an excess under 2.4 N at worst — the least margin a scored object has is 2 N ((20 N −
+    /// 16 N) / 2), and the wrist's damping takes about half off — and once it slides, its
+    /// acceleration to the push speed costs m·a = 0.2 N. The push speed is reached 2 cm in.
+    pub press_acceleration: f64,
     /// Farthest the hand reaches ahead of the body axis (m).
     pub reach: f64,
     /// Nearest the hand comes to the body axis (m).
@@ -47,6 +64,8 @@ impl Default for PushMotionConfig {
             approach_gap: 0.08,
             test_travel: 0.15,
             contact_threshold: 2.0,
+            touch_force: 5.0,
+            press_acceleration: 0.01,
             reach: 0.8,
             near: 0.2,
             crop_margin: 0.06,

@@ -409,7 +409,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.robot.drain_wrenches()?;
         let start = Point3::new(from_x, y, z);
         let mut log = StrokeLog::default();
-        let mut outcome = HandOutcome::Reached;
         let guarded_from = match approach {
             Approach::Free => None,
             // From where the hand is (no nearer the body than a stroke ever starts).
@@ -419,12 +418,42 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             Approach::GuardedLast(d) => Some(Point3::new((from_x - d).max(motion.near), y, z)),
         };
+        // Each leg touches at a low guard and stops, then presses on from there with the force
+        // guard at the limit and the hand's speed ramped up gently: the press is a force ramp.
+        let mut legs = Vec::with_capacity(2);
         if let Some(from) = guarded_from.filter(|p| (start - p).norm() > 1e-3) {
-            outcome = self.guarded(from, start, motion.approach_speed, force_limit, &mut log)?;
+            legs.push((from, start, motion.approach_speed));
         }
-        if !matches!(outcome, HandOutcome::ForceLimit { .. }) {
-            let end = Point3::new(to_x.max(from_x), y, z);
-            outcome = self.guarded(start, end, motion.speed, force_limit, &mut log)?;
+        legs.push((start, Point3::new(to_x.max(from_x), y, z), motion.speed));
+        let touch_force = motion.touch_force.min(force_limit);
+        let mut outcome = HandOutcome::Reached;
+        for (from, to, speed) in legs {
+            let touch = GuardedMove {
+                from,
+                to,
+                speed,
+                force_limit: touch_force,
+                acceleration: None,
+            };
+            outcome = match self.guarded(touch, &mut log)? {
+                HandOutcome::ForceLimit { at, .. } if touch_force < force_limit => {
+                    // From where the hand stopped, put back on the leg's line: the hand sits a
+                    // fraction of a millimetre off it on its compliant wrist, and a line's ends
+                    // must lie within the arm's reach, as the leg's own do.
+                    let press = GuardedMove {
+                        from: on_segment(at, from, to),
+                        to,
+                        speed,
+                        force_limit,
+                        acceleration: Some(motion.press_acceleration),
+                    };
+                    self.guarded(press, &mut log)?
+                }
+                other => other,
+            };
+            if outcome != HandOutcome::Reached {
+                break;
+            }
         }
         let StrokeLog {
             trace,
@@ -452,23 +481,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         })
     }
 
-    /// One guarded move of the hand from `from` to `to` (`base_link`, m) at `speed`, logged into
-    /// `log`; its outcome.
+    /// One guarded move of the hand, logged into `log`; its outcome.
     fn guarded(
         &mut self,
-        from: Point3<f64>,
-        to: Point3<f64>,
-        speed: f64,
-        force_limit: f64,
+        motion: GuardedMove,
         log: &mut StrokeLog,
     ) -> Result<HandOutcome, Interrupt> {
         let threshold = self.config.push_motion.contact_threshold;
-        self.robot.start_guarded_move(GuardedMove {
-            from,
-            to,
-            speed,
-            force_limit,
-        })?;
+        self.robot.start_guarded_move(motion)?;
         loop {
             let status = self.robot.hand_status()?;
             log.hand.push(self.robot.hand_position()?);
@@ -637,6 +657,13 @@ const HAND_WAY_MARGIN: f64 = 0.02;
 /// How far outside the arm's sideways reach (m) a stroke's line is moved back to its edge: the error
 /// of a walk to a stand pose, not a plan that asked for more than the arm can do.
 pub(super) const LATERAL_SLACK: f64 = 0.02;
+
+/// The point of the segment `a`–`b` nearest `p`.
+fn on_segment(p: Point3<f64>, a: Point3<f64>, b: Point3<f64>) -> Point3<f64> {
+    let ab = b - a;
+    let t = ((p - a).dot(&ab) / ab.norm_squared().max(1e-12)).clamp(0.0, 1.0);
+    a + ab * t
+}
 
 /// `y` moved onto the nearer edge of `reach` when it lies at most [`LATERAL_SLACK`] outside it;
 /// otherwise unchanged (the arm then refuses a line the plan never meant).

@@ -72,6 +72,11 @@ impl Arm {
         if !(m.force_limit.is_finite() && m.force_limit > 0.0) {
             return Err(format!("force limit {} must be positive", m.force_limit));
         }
+        if let Some(a) = m.acceleration
+            && !(a.is_finite() && a > 0.0)
+        {
+            return Err(format!("acceleration {a} must be positive"));
+        }
         self.motion = Motion::Approach(m);
         self.outcome = None;
         Ok(())
@@ -142,18 +147,19 @@ impl Arm {
         match self.motion.clone() {
             Motion::Hold => {}
             Motion::Approach(m) => {
-                if self.move_towards(m.from, FREE_SPEED, dt) {
+                if self.move_towards(m.from, FREE_SPEED, HAND_ACCEL, dt) {
                     self.motion = Motion::Guarded(m);
                 }
             }
             Motion::Guarded(m) => {
-                if self.move_towards(m.to, m.speed, dt) {
+                let accel = m.acceleration.map_or(HAND_ACCEL, |a| a.min(HAND_ACCEL));
+                if self.move_towards(m.to, m.speed, accel, dt) {
                     self.motion = Motion::Hold;
                     self.outcome = Some(HandOutcome::Reached);
                 }
             }
             Motion::Retract => {
-                if self.move_towards(REST, FREE_SPEED, dt) {
+                if self.move_towards(REST, FREE_SPEED, HAND_ACCEL, dt) {
                     self.motion = Motion::Hold;
                     self.outcome = Some(HandOutcome::Reached);
                 }
@@ -161,12 +167,12 @@ impl Arm {
         }
     }
 
-    /// Moves the command towards `target` at up to `max_speed`, ramping the speed up and down;
-    /// true when it got there (and stopped).
-    fn move_towards(&mut self, target: Point3<f64>, max_speed: f64, dt: f64) -> bool {
+    /// Moves the command towards `target` at up to `max_speed`, ramping the speed up and down at
+    /// `accel`; true when it got there (and stopped).
+    fn move_towards(&mut self, target: Point3<f64>, max_speed: f64, accel: f64, dt: f64) -> bool {
         let d: Vector3<f64> = target - self.command;
         let n = d.norm();
-        self.speed = crate::humanoid::walk::ramp(self.speed, max_speed, HAND_ACCEL, n, dt);
+        self.speed = crate::humanoid::walk::ramp(self.speed, max_speed, accel, n, dt);
         let step = self.speed * dt;
         if n <= step {
             self.command = target;
@@ -175,6 +181,61 @@ impl Arm {
         } else {
             self.command += d * (step / n);
             false
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(acceleration: Option<f64>) -> GuardedMove {
+        GuardedMove {
+            from: REST,
+            to: REST + Vector3::new(0.1, 0.0, 0.0),
+            speed: 0.02,
+            force_limit: 20.0,
+            acceleration,
+        }
+    }
+
+    /// Runs the line for `seconds` in 1 ms steps; the commanded travel along it (m).
+    fn travel_after(arm: &mut Arm, seconds: f64) -> f64 {
+        for _ in 0..(seconds * 1000.0).round() as usize {
+            arm.step(0.001);
+        }
+        arm.command.x - REST.x
+    }
+
+    #[test]
+    fn a_line_with_an_acceleration_ramps_the_hand_up_no_faster() {
+        // Invariant: on a guarded line with an acceleration a, the hand has travelled at most a·t²/2 after t seconds, and reaches the line's speed (v²/2a in), not the arm's own ramp.
+        let mut gentle = Arm::default();
+        gentle.start_guarded(line(Some(0.01))).expect("accepted");
+        let early = travel_after(&mut gentle, 1.0);
+        assert!(early <= 0.01 * 1.0 / 2.0 + 1e-4, "{early} m after 1 s");
+        assert!(early >= 0.004, "{early} m after 1 s: the ramp stalled");
+        let at_speed = travel_after(&mut gentle, 1.0);
+        let later = travel_after(&mut gentle, 1.0);
+        assert!(
+            (later - at_speed - 0.02).abs() < 1e-3,
+            "the third second covered {} m, not 2 cm at 2 cm/s",
+            later - at_speed
+        );
+        let mut own = Arm::default();
+        own.start_guarded(line(None)).expect("accepted");
+        let quick = travel_after(&mut own, 1.0);
+        assert!(quick > 0.019, "{quick} m after 1 s at the arm's own ramp");
+    }
+
+    #[test]
+    fn a_line_with_a_bad_acceleration_is_refused() {
+        // Invariant: a zero, negative or non-finite acceleration is refused with a reason, and the arm stays still.
+        for a in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let mut arm = Arm::default();
+            let refused = arm.start_guarded(line(Some(a)));
+            assert!(refused.is_err_and(|r| r.contains("acceleration")), "{a}");
+            assert!(!arm.is_moving());
         }
     }
 }

@@ -44,6 +44,8 @@ enum HandMotion {
     Guarded {
         motion: GuardedMove,
         travelled: f64,
+        /// Hand speed along the line now (m/s): it ramps up at the move's acceleration, if any.
+        speed: f64,
         approach_done: bool,
     },
     Retract,
@@ -284,6 +286,7 @@ impl FakeRobot {
             HandMotion::Guarded {
                 motion,
                 travelled,
+                speed,
                 approach_done,
             } => {
                 if !*approach_done {
@@ -296,7 +299,10 @@ impl FakeRobot {
                     return;
                 };
                 let length = (motion.to - motion.from).norm();
-                let next = (*travelled + motion.speed * SUBSTEP).min(length);
+                *speed = motion
+                    .acceleration
+                    .map_or(motion.speed, |a| (*speed + a * SUBSTEP).min(motion.speed));
+                let next = (*travelled + *speed * SUBSTEP).min(length);
                 let (force, holds) = self.contact.map_or((0.0, false), |c| {
                     let depth = next - c.at;
                     (c.response.force(depth, c.give), depth > c.give)
@@ -488,12 +494,15 @@ impl Arm for FakeRobot {
 
     fn start_guarded_move(&mut self, motion: GuardedMove) -> Result<(), RobotError> {
         self.call("arm", "start_guarded_move".into())?;
-        if !(motion.speed > 0.0 && motion.force_limit > 0.0) {
+        if !(motion.speed > 0.0
+            && motion.force_limit > 0.0
+            && motion.acceleration.is_none_or(|a| a > 0.0))
+        {
             return Err(RobotError::Refused {
                 capability: "arm",
                 reason: format!(
-                    "speed {} and force limit {} must be positive",
-                    motion.speed, motion.force_limit
+                    "speed {}, force limit {} and acceleration {:?} must be positive",
+                    motion.speed, motion.force_limit, motion.acceleration
                 ),
             });
         }
@@ -502,6 +511,7 @@ impl Arm for FakeRobot {
         self.hand_motion = Some(HandMotion::Guarded {
             motion,
             travelled: 0.0,
+            speed: 0.0,
             approach_done: false,
         });
         Ok(())

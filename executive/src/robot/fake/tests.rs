@@ -18,6 +18,7 @@ fn push(limit: f64) -> GuardedMove {
         to: Point3::new(0.7, 0.0, 0.7),
         speed: 0.1,
         force_limit: limit,
+        acceleration: None,
     }
 }
 
@@ -125,6 +126,7 @@ fn line(to_x: f64) -> GuardedMove {
         to: Point3::new(to_x, 0.0, 0.5),
         speed: 0.1,
         force_limit: 20.0,
+        acceleration: None,
     }
 }
 
