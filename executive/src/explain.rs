@@ -22,19 +22,25 @@ pub struct TestRecord {
     pub hand_travel_mm: f64,
     /// Whether the guarded move stopped at the force limit.
     pub reached_limit: bool,
+    /// How far the wrench leaned out of the horizontal where the stroke stopped at the limit (°).
+    pub stop_lean_deg: Option<f64>,
     /// What this test found.
     pub finding: Finding,
 }
 
-/// `obj-4 #1: peak 18.0 N, ICP 138.7 mm, hand 141.7 mm -> Movable`: one line for logs and reports.
+/// `obj-4 #1: peak 18.0 N, ICP 138.7 mm, hand 141.7 mm -> Movable` (with the stop's lean after the
+/// peak where the stroke stopped at the limit): one line for logs and reports.
 impl std::fmt::Display for TestRecord {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let icp = self
             .icp_mm
             .map_or_else(|| "n/a".to_string(), |mm| format!("{mm:.1} mm"));
+        let lean = self
+            .stop_lean_deg
+            .map_or_else(String::new, |deg| format!(", leaning {deg:.0}°"));
         write!(
             f,
-            "{} #{}: peak {:.1} N, ICP {icp}, hand {:.1} mm -> {:?}",
+            "{} #{}: peak {:.1} N{lean}, ICP {icp}, hand {:.1} mm -> {:?}",
             self.object, self.attempt, self.peak_force, self.hand_travel_mm, self.finding
         )
     }

@@ -836,6 +836,7 @@ fn conclude_push_test(
         icp_mm: evidence.icp.map(|icp| icp.displacement * 1e3),
         hand_travel_mm: evidence.hand_travel * 1e3,
         reached_limit: evidence.reached_limit,
+        stop_lean_deg: evidence.stop_lean.map(f64::to_degrees),
         finding: finding.clone(),
     });
     let push_test = k.push_tests;
@@ -911,6 +912,16 @@ fn conclude_push_test(
                 "the hand met nothing where it was seen, after a second look".into(),
             );
             select_candidate(k, config, Edge::MissedTwice)
+        }
+        // An object that tipped under the hand is retested at half the height: the push's moment
+        // about the far edge halves, so it slides where it can before it tips (a uniform box does once
+        // μ·h < d/2). The runner keeps the hand within the arm's reach.
+        Finding::Ambiguous(Ambiguity::Tipped { .. }) if attempt < 2 => {
+            let lower = PushIntent {
+                hand_height: intent.hand_height / 2.0,
+                ..intent.clone()
+            };
+            start_push_test(target, &lower, attempt + 1, k, config, Edge::Retest)
         }
         Finding::Ambiguous(_) if attempt < 2 => {
             start_push_test(target, intent, attempt + 1, k, config, Edge::Retest)

@@ -60,6 +60,9 @@ pub struct PushEvidence {
     pub hand_travel: f64,
     /// Colour-ICP reading, or `None` when ICP could not run (too few points).
     pub icp: Option<IcpReading>,
+    /// Where the stroke stopped at the force limit: how far the wrench there leaned out of the
+    /// horizontal (rad, 0 for a wrench along the floor). `None` when it did not stop there.
+    pub stop_lean: Option<f64>,
     /// Force trace: (robot time s, force norm N), for plots like the paper's Fig. 12.
     pub force_trace: Vec<(f64, f64)>,
 }
@@ -77,6 +80,15 @@ pub struct ClassifierConfig {
     /// its last steps oscillate below a millimetre on sensor noise. (A moved reading must still agree
     /// with the hand to say "movable".)
     pub unconverged_min_fitness: f64,
+    /// A stop at the limit whose wrench leans further than this out of the horizontal (rad) says the
+    /// object tipped under the hand, not that it holds. The hand pushes horizontally, and a face that
+    /// holds still reacts horizontally but for the friction that may carry the hand's own weight
+    /// (0.5 kg, 4.9 N: atan(4.9 / 20) = 13.8° at the 20 N limit; the shipped scenarios' static stops
+    /// lean 0–17°, the most at a table top's edge). A face that turns up under the palm as its
+    /// object tips about its far edge drags along the palm, and the palm's friction (0.5) holds it
+    /// down until it locks: atan(0.5) = 26.6° (a 2 kg box pushed 5 cm below its 0.7 m top leaned
+    /// 26°). Default 21°, between the two.
+    pub tipped_lean: f64,
 }
 
 impl ClassifierConfig {
@@ -104,6 +116,7 @@ impl Default for ClassifierConfig {
             agreement_abs: 0.030,
             agreement_rel: 0.25,
             unconverged_min_fitness: 0.8,
+            tipped_lean: 21f64.to_radians(),
         }
     }
 }
@@ -132,6 +145,13 @@ pub enum Ambiguity {
         /// Peak force (N).
         peak_force: f64,
     },
+    /// The force reached the limit with the wrench leaning well out of the horizontal: the object
+    /// tipped under the hand and locked, it did not hold (see [`ClassifierConfig::tipped_lean`]).
+    /// The retest pushes at half the height.
+    Tipped {
+        /// The wrench's lean out of the horizontal at the stop (rad).
+        lean: f64,
+    },
 }
 
 impl std::fmt::Display for Ambiguity {
@@ -153,6 +173,11 @@ impl std::fmt::Display for Ambiguity {
             Ambiguity::NeitherMovedNorResisted { peak_force } => write!(
                 f,
                 "touched (peak {peak_force:.1} N) but neither moved nor resisted"
+            ),
+            Ambiguity::Tipped { lean } => write!(
+                f,
+                "reached the limit with the force leaning {:.0}° out of the horizontal: tipped",
+                lean.to_degrees()
             ),
         }
     }
@@ -178,6 +203,12 @@ pub fn classify(evidence: &PushEvidence, config: &ClassifierConfig) -> Finding {
         return Finding::Ambiguous(Ambiguity::IcpFailed);
     };
     let moved = icp.displacement >= config.still_below;
+    // Whatever ICP saw of a box that turned a little and locked, the lean says why it stopped.
+    if let Some(lean) = evidence.stop_lean.filter(|l| *l > config.tipped_lean)
+        && evidence.reached_limit
+    {
+        return Finding::Ambiguous(Ambiguity::Tipped { lean });
+    }
     match (moved, evidence.reached_limit) {
         (false, true) => Finding::Static,
         (false, false) => Finding::Ambiguous(Ambiguity::NeitherMovedNorResisted {
@@ -227,6 +258,7 @@ mod tests {
 
     fn evidence(contact: bool, limit: bool, hand: f64, icp: Option<f64>) -> PushEvidence {
         PushEvidence {
+            stop_lean: limit.then_some(0.05),
             force_limit: 20.0,
             peak_force: if limit { 20.3 } else { 15.0 },
             reached_limit: limit,
@@ -255,6 +287,21 @@ mod tests {
             classify(&evidence(true, false, 0.1822, Some(0.1893)), &c),
             Finding::Movable
         );
+    }
+
+    #[test]
+    fn a_stop_at_the_limit_leaning_like_a_tipped_face_is_ambiguous_not_static() {
+        // Invariant: at the limit with ICP still, a wrench leaning 26° out of the horizontal (a face dragged down by the palm) is Tipped; leaning 17° (the hand's weight carried by a static face) is Static.
+        let c = ClassifierConfig::default();
+        let lean = |deg: f64| PushEvidence {
+            stop_lean: Some(deg.to_radians()),
+            ..evidence(true, true, 0.002, Some(0.004))
+        };
+        assert!(matches!(
+            classify(&lean(26.0), &c),
+            Finding::Ambiguous(Ambiguity::Tipped { .. })
+        ));
+        assert_eq!(classify(&lean(17.0), &c), Finding::Static);
     }
 
     #[test]

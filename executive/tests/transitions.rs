@@ -49,6 +49,7 @@ fn evidence(limit: bool, hand: f64, icp: f64) -> PushEvidence {
             fitness: 0.95,
             rmse: 0.002,
         }),
+        stop_lean: limit.then_some(0.05),
         force_trace: vec![(0.0, 0.0), (1.2, 14.0)],
     }
 }
@@ -479,6 +480,16 @@ cases! {
         let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(false, 0.20, 0.05)));
         assert_eq!(s.state, push_test(CHAIR, 2));
         assert_eq!(s.knowledge.push_tests, 2);
+        s.edge
+    }
+    a_test_that_tipped_the_object_is_retested_at_half_the_height => {
+        // Invariant: a first test that stopped at the limit with its force leaning like a face dragged down by the palm (26°) is retested once, at half the hand height, and is not a static verdict.
+        let tipped = PushEvidence { stop_lean: Some(26f64.to_radians()), ..evidence(true, 0.002, 0.004) };
+        let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(tipped));
+        let lower = PushIntent { hand_height: intent(CHAIR).hand_height / 2.0, ..intent(CHAIR) };
+        assert_eq!(s.state, State::PushTest { target: CHAIR, intent: lower.clone(), attempt: 2 });
+        assert_eq!(s.commands, vec![Command::PushTest { intent: lower, attempt: 2 }]);
+        assert!(s.knowledge.explanation.verdicts.is_empty());
         s.edge
     }
     a_hand_that_meets_nothing_looks_again_once => {

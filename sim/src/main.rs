@@ -3,8 +3,7 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-
-mod cli;
+use nudge_sim::cli;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();

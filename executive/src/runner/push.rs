@@ -96,7 +96,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
         // of contact anyway.
         let testing = purpose == Purpose::Test;
-        let push_config = if testing {
+        let mut push_config = if testing {
             PushConfig {
                 distances: self
                     .config
@@ -111,6 +111,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         } else {
             self.config.push.clone()
         };
+        // An object that tipped under the hand is pushed at no more than half its height from then
+        // on, as its retest was (see `Ambiguity::Tipped`).
+        if self.world.tipped.contains(&target) {
+            let (low, high) = push_config.reach_z;
+            push_config.reach_z = (low, high.min((prism.z_max / 2.0).max(low)));
+        }
         let mut planned = Err(PushError::NoStandPose(target));
         let mut unseen = false;
         let mut searched = None;
@@ -341,7 +347,20 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         };
         let to_x = (contact.x + motion.test_travel).min(motion.reach);
         let limit = self.config.executive.force_limit;
-        let stroke = self.stroke(from_x, to_x, contact.y, intent.hand_height, limit, approach)?;
+        // A retest lowered after the object tipped may ask for less than the arm reaches down to.
+        let (low, high) = self.config.push.reach_z;
+        let z = intent.hand_height.clamp(low, high);
+        let stroke = self.stroke(from_x, to_x, contact.y, z, limit, approach)?;
+        let stop_lean = match &stroke.outcome {
+            HandOutcome::ForceLimit { wrench, .. } => {
+                let f = wrench.value.force;
+                Some(f.z.abs().atan2(f.x.hypot(f.y)))
+            }
+            _ => None,
+        };
+        if stop_lean.is_some_and(|l| l > self.config.executive.classifier.tipped_lean) {
+            self.world.tipped.insert(intent.target);
+        }
         if stroke.contact {
             let base = self.robot.base_pose()?.value;
             self.world.touched = Some((intent.target, base * Point2::new(stroke.end_x, contact.y)));
@@ -376,6 +395,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             contact: stroke.contact,
             hand_travel: stroke.travel_after_contact,
             icp,
+            stop_lean,
             force_trace: stroke.trace,
         })
     }

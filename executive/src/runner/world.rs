@@ -57,6 +57,9 @@ pub(crate) struct WorldModel {
     pub look_time: f64,
     /// Where a walk was blocked before it got away (see the runner's `plan_to`).
     pub stuck_at: Option<Point2<f64>>,
+    /// Objects a push test's stroke stopped on with its force leaning out of the horizontal: they
+    /// tipped under the hand, and are pushed low from then on.
+    pub tipped: std::collections::BTreeSet<ObjectId>,
     /// Per obstacle, the places the looks that showed it were taken from.
     pub seen_from: std::collections::BTreeMap<ObjectId, Vec<Point2<f64>>>,
     /// The cells the viewpoint chosen last is predicted to show.

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use nudge_sim::score::{Outcome, compare};
+use crate::score::{Outcome, compare};
 
 use super::pool::{Cancel, Done, Job, run_all};
 use super::source::{Source, expand};

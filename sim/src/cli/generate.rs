@@ -2,8 +2,8 @@
 
 use std::process::ExitCode;
 
+use crate::generate::{generate as draw, to_toml};
 use anyhow::Context;
-use nudge_sim::generate::{generate as draw, to_toml};
 
 use super::GenerateArgs;
 

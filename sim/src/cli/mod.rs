@@ -1,4 +1,6 @@
-//! Command-line interface: `nudge run`, `check`, `batch`, `report` and `inspect`.
+//! Command-line interface: `nudge run`, `check`, `batch`, `report`, `inspect` and `generate`. It lives
+//! in the library so that harnesses (the argument fuzzer in `examples/fuzz_cli.rs`) parse and
+//! dispatch exactly what the `nudge` binary does.
 
 mod batch;
 mod check;
@@ -166,7 +168,7 @@ struct GenerateArgs {
     /// Families to generate (each: what it varies and guarantees is in `nudge generate --help`'s
     /// list and the README).
     #[arg(required = true, value_enum, value_name = "FAMILY")]
-    families: Vec<nudge_sim::generate::Family>,
+    families: Vec<crate::generate::Family>,
     /// Scenarios per family.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000))]
     count: u64,

@@ -14,13 +14,13 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+use crate::metrics::{RunMetrics, Start, measure};
+use crate::run::runner;
+use crate::scenario::Scenario;
+use crate::score::{Scored, score};
 use nudge_executive::record::Observer;
 use nudge_executive::robot::Wrench;
 use nudge_executive::{AbortReason, CandidatePolicy, Edge, RunReport, State};
-use nudge_sim::metrics::{RunMetrics, Start, measure};
-use nudge_sim::run::runner;
-use nudge_sim::scenario::Scenario;
-use nudge_sim::score::{Scored, score};
 
 /// One run to do.
 pub struct Job<'a> {
@@ -133,13 +133,13 @@ pub enum NotDone {
     Cancelled,
     /// Its world could not be built.
     #[error(transparent)]
-    Failed(#[from] nudge_sim::world::WorldError),
+    Failed(#[from] crate::world::WorldError),
 }
 
 /// Runs one job to its end and scores it.
 pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
     let started = Instant::now();
-    let config = nudge_sim::run::run_config(job.scenario, job.seed, job.policy);
+    let config = crate::run::run_config(job.scenario, job.seed, job.policy);
     let mut runner = runner(
         job.scenario,
         job.seed,

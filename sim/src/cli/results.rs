@@ -8,7 +8,7 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 use super::pool::{Done, Job};
-use nudge_sim::score::{Outcome, compare};
+use crate::score::{Outcome, compare};
 
 /// One run of a batch, as one JSON line. Everything but `wall_time` depends only on the scenario,
 /// the seed and the policy.

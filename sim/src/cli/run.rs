@@ -5,10 +5,10 @@ use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
+use crate::run::runner;
 use anyhow::Context;
 use nudge_executive::record::{McapRecorder, RunInfo, RunSummary};
 use nudge_executive::{CandidatePolicy, RunReport, State};
-use nudge_sim::run::runner;
 
 use super::map::{MapCollector, draw};
 use super::source::Source;

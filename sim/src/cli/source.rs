@@ -2,8 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::scenario::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML, Scenario};
 use anyhow::{Context, bail};
-use nudge_sim::scenario::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML, Scenario};
 
 /// A loaded scenario with the file it came from (its text is attached to recordings).
 pub struct Source {

@@ -6,12 +6,12 @@ mod font;
 
 pub use draw::draw;
 
+use crate::scenario::Scenario;
 use nalgebra::{Point2, Vector2};
 use nudge_executive::record::{GridView, Observer, RobotFrames};
 use nudge_executive::robot::Wrench;
 use nudge_executive::{Edge, PushEvidence, PushIntent, Question, State, Verdict, Viewpoint};
 use nudge_perception::{ObjectId, Prism};
-use nudge_sim::scenario::Scenario;
 
 /// The robot's track keeps a point each time the base moved this far (m).
 const TRACK_STEP: f64 = 0.01;
@@ -94,7 +94,7 @@ impl MapCollector {
             tests: Vec::new(),
             verdicts: Vec::new(),
             views: Vec::new(),
-            look_half_angle: nudge_sim::run::run_config(
+            look_half_angle: crate::run::run_config(
                 scenario,
                 scenario.seed,
                 nudge_executive::CandidatePolicy::Nearest,
