@@ -483,8 +483,8 @@ cases! {
         s.edge
     }
     a_test_that_tipped_the_object_is_retested_at_half_the_height => {
-        // Invariant: a first test that stopped at the limit with its force leaning like a face dragged down by the palm (26°) is retested once, at half the hand height, and is not a static verdict.
-        let tipped = PushEvidence { stop_lean: Some(26f64.to_radians()), ..evidence(true, 0.002, 0.004) };
+        // Invariant: a first test that stopped at the limit with its force leaning like a face dragged down by the palm (26°, the hand 15 mm on) is retested once, at half the hand height, and is not a static verdict.
+        let tipped = PushEvidence { stop_lean: Some(26f64.to_radians()), ..evidence(true, 0.015, 0.004) };
         let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(tipped));
         let lower = PushIntent { hand_height: intent(CHAIR).hand_height / 2.0, ..intent(CHAIR) };
         assert_eq!(s.state, State::PushTest { target: CHAIR, intent: lower.clone(), attempt: 2 });

@@ -358,9 +358,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             _ => None,
         };
-        if stop_lean.is_some_and(|l| l > self.config.executive.classifier.tipped_lean) {
-            self.world.tipped.insert(intent.target);
-        }
+
         if stroke.contact {
             let base = self.robot.base_pose()?.value;
             self.world.touched = Some((intent.target, base * Point2::new(stroke.end_x, contact.y)));
@@ -388,7 +386,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let stamp = self.robot.now();
         self.observer
             .push(stamp, intent, Some(-direction * stroke.peak_force));
-        Ok(PushEvidence {
+        let evidence = PushEvidence {
             force_limit: self.config.executive.force_limit,
             peak_force: stroke.peak_force,
             reached_limit: matches!(stroke.outcome, HandOutcome::ForceLimit { .. }),
@@ -397,7 +395,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             icp,
             stop_lean,
             force_trace: stroke.trace,
-        })
+        };
+        if self.config.executive.classifier.tipped(&evidence).is_some() {
+            self.world.tipped.insert(intent.target);
+        }
+        Ok(evidence)
     }
 
     pub(super) fn retract(&mut self) -> Result<(), Interrupt> {
