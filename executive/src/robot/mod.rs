@@ -24,7 +24,9 @@ pub use arm::{Arm, GuardedMove, HandOutcome};
 pub use base::{Base, WalkOutcome};
 pub use clock::Clock;
 pub use error::RobotError;
-pub use fake::{FakeCamera, FakeRobot, FakeScene, ObjectResponse, SceneBox, ScriptedObject};
+pub use fake::{
+    FakeCamera, FakeRobot, FakeScene, ForcePeak, ObjectResponse, SceneBox, ScriptedObject,
+};
 pub use head::Head;
 pub use range_camera::RangeCamera;
 pub use types::{ActionStatus, Stamped, Wrench};
