@@ -15,6 +15,7 @@ mod base;
 mod clock;
 mod error;
 mod fake;
+pub mod faults;
 mod head;
 mod range_camera;
 mod types;
