@@ -82,3 +82,6 @@ pub trait Fault: Robot {
     /// Unwraps the decorator.
     fn into_inner(self) -> Self::Inner;
 }
+
+#[cfg(test)]
+mod tests;
