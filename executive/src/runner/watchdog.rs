@@ -285,7 +285,7 @@ mod tests {
     fn a_stalled_hand_times_out_at_its_derived_deadline_and_is_stopped() {
         // Invariant: a guarded move that never finishes fails its status poll with a Timeout once FACTOR × its nominal duration + SLACK of robot time has passed, not before; the hand is then stopped, so a retract can follow.
         let fake = FakeRobot::new(Isometry2::new(Vector2::zeros(), 0.0));
-        let stalled = ArmStall::new(fake, FaultWindow::once(Trigger::Always));
+        let stalled = ArmStall::new(fake, FaultWindow::once(Trigger::Always), 0.0);
         let mut robot = Watchdog::new(stalled, 0.15);
         robot.hand_position().expect("hand");
         let motion = GuardedMove {

@@ -133,10 +133,16 @@ fn a_short_walk_says_arrived_where_it_stopped() {
 
 #[test]
 fn a_stalled_or_hung_action_runs_until_stopped() {
-    // Invariant: a stalled hand stands still and reports Running until stop_hand, then Stopped; a hung head reports Running though it arrived, until a new head motion.
-    let mut arm = ArmStall::new(fake(), FaultWindow::once(Trigger::Always));
+    // Invariant: a hand that has moved `after` seconds stalls out of its rest pose, stands still and reports Running until stop_hand, then Stopped; a hung head reports Running though it arrived, until a new head motion.
+    let mut arm = ArmStall::new(fake(), FaultWindow::once(Trigger::Always), 0.5);
     arm.start_guarded_move(push()).expect("push");
+    let rest = arm.hand_position().expect("hand").value;
+    for _ in 0..20 {
+        assert_eq!(arm.hand_status().expect("status"), ActionStatus::Running);
+        arm.advance(0.05).expect("advance");
+    }
     let at = arm.hand_position().expect("hand").value;
+    assert_ne!(at, rest, "stalled out, not at rest");
     for _ in 0..100 {
         assert_eq!(arm.hand_status().expect("status"), ActionStatus::Running);
         arm.advance(0.05).expect("advance");

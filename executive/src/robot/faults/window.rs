@@ -48,7 +48,9 @@ pub struct FaultWindow(Rc<Counts>);
 struct Counts {
     trigger: Trigger,
     shots: Option<u32>,
+    skip: Cell<u64>,
     chances: Cell<u64>,
+    held: Cell<u64>,
     fired: Cell<u32>,
     first: RefCell<Option<Firing>>,
 }
@@ -68,10 +70,19 @@ impl FaultWindow {
         Self(Rc::new(Counts {
             trigger,
             shots,
+            skip: Cell::new(0),
             chances: Cell::new(0),
+            held: Cell::new(0),
             fired: Cell::new(0),
             first: RefCell::new(None),
         }))
+    }
+
+    /// The same window letting the first `n` chances its trigger holds for pass: a fault deeper
+    /// into a state (the 400th call of a push test falls in its stroke).
+    pub fn skip(self, n: u64) -> Self {
+        self.0.skip.set(n);
+        self
     }
 
     /// The trigger.
@@ -101,6 +112,10 @@ impl FaultWindow {
         w.chances.set(w.chances.get() + 1);
         let spent = w.shots.is_some_and(|n| w.fired.get() >= n);
         if spent || !self.holds(now) {
+            return false;
+        }
+        w.held.set(w.held.get() + 1);
+        if w.held.get() <= w.skip.get() {
             return false;
         }
         w.fired.set(w.fired.get() + 1);
@@ -148,7 +163,7 @@ mod tests {
 
     #[test]
     fn a_window_fires_from_its_trigger_as_often_as_its_shots_allow() {
-        // Invariant: a once-window fires at the first chance its trigger holds and never again; an every-window at each such chance; chances before the trigger count but do not fire; the first firing is remembered.
+        // Invariant: a once-window fires at the first chance its trigger holds and never again; an every-window at each such chance; chances before the trigger count but do not fire; a skip lets that many chances in the trigger pass first; the first firing is remembered.
         let once = FaultWindow::once(Trigger::FromTime(1.0));
         assert!(!once.fires(0.5));
         assert!(once.fires(1.0));
@@ -160,5 +175,11 @@ mod tests {
         assert!(every.fires(0.0));
         assert!(every.fires(0.0));
         assert_eq!(every.fired(), 2);
+        let third = FaultWindow::once(Trigger::FromTime(1.0)).skip(2);
+        assert!(!third.fires(0.5));
+        assert!(!third.fires(1.0));
+        assert!(!third.fires(1.0));
+        assert!(third.fires(1.0));
+        assert!(!third.fires(1.0));
     }
 }
