@@ -15,6 +15,7 @@ mod base;
 mod clock;
 mod error;
 mod fake;
+pub mod faults;
 mod head;
 mod range_camera;
 mod types;
@@ -24,7 +25,9 @@ pub use arm::{Arm, GuardedMove, HandOutcome};
 pub use base::{Base, WalkOutcome};
 pub use clock::Clock;
 pub use error::RobotError;
-pub use fake::{FakeCamera, FakeRobot, FakeScene, ObjectResponse, SceneBox, ScriptedObject};
+pub use fake::{
+    FakeCamera, FakeRobot, FakeScene, ForcePeak, ObjectResponse, SceneBox, ScriptedObject,
+};
 pub use head::Head;
 pub use range_camera::RangeCamera;
 pub use types::{ActionStatus, Stamped, Wrench};

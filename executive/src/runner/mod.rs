@@ -18,6 +18,7 @@ mod rank;
 mod report;
 mod unseen;
 mod view;
+mod watchdog;
 mod world;
 
 use std::sync::Arc;
@@ -28,6 +29,7 @@ use rand_chacha::ChaCha8Rng;
 
 pub use config::{CameraModel, GridSetup, PushMotionConfig, RunConfig, ViewSetup};
 pub use report::{RunReport, TimelineEntry};
+use watchdog::Watchdog;
 use world::WorldModel;
 
 use crate::command::Command;
@@ -65,14 +67,20 @@ impl From<Interrupt> for Event {
 }
 
 /// Drives a robot through one run.
+///
+/// Every action it starts has a deadline derived from the action (see `watchdog.rs`): an adapter
+/// whose action never reports done ends the run in a safe stop and `Aborted`, not in a wait for the
+/// whole robot-time budget.
 pub struct Runner<R: Robot, O: Observer> {
-    robot: R,
+    robot: Watchdog<R>,
     observer: O,
     config: RunConfig,
     world: WorldModel,
     rng: ChaCha8Rng,
     cancel: Arc<AtomicBool>,
     start_time: f64,
+    /// Robot time let pass when the run started (s), counted by the watchdog.
+    start_elapsed: f64,
 }
 
 impl<R: Robot, O: Observer> Runner<R, O> {
@@ -80,13 +88,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     pub fn new(robot: R, observer: O, config: RunConfig) -> Self {
         let rng = ChaCha8Rng::seed_from_u64(config.seed);
         Self {
-            robot,
+            robot: Watchdog::new(robot, config.view.walk_speed),
             observer,
             config,
             world: WorldModel::default(),
             rng,
             cancel: Arc::new(AtomicBool::new(false)),
             start_time: 0.0,
+            start_elapsed: 0.0,
         }
     }
 
@@ -97,17 +106,18 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// The robot, e.g. to read ground truth from a simulation after the run.
     pub fn robot(&self) -> &R {
-        &self.robot
+        self.robot.inner()
     }
 
     /// The observer, e.g. to finish a recording.
     pub fn into_parts(self) -> (R, O) {
-        (self.robot, self.observer)
+        (self.robot.into_inner(), self.observer)
     }
 
     /// Runs until the machine reaches a terminal state and reports the outcome.
     pub fn run(&mut self) -> RunReport {
         self.start_time = self.robot.now();
+        self.start_elapsed = self.robot.elapsed();
         self.start_grid();
         let mut timeline = Vec::new();
         let mut step = start();
@@ -157,12 +167,19 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
-    /// Executes a step's commands in order; the last one that reports an event ends the step.
+    /// Executes a step's commands in order; the last one that reports an event ends the step, or
+    /// the first that fails (an adapter error, a cancel, the time budget): the commands after it
+    /// would start work on a robot that did not do what came before (a walk that failed to stop),
+    /// and their event would hide the failure from the machine.
     fn execute(&mut self, commands: &[Command]) -> Option<Event> {
         let mut event = None;
         for command in commands {
             if let Some(e) = self.execute_one(command) {
+                let failed = matches!(e, Event::RobotFailed(_) | Event::Cancel | Event::TimeUp(_));
                 event = Some(e);
+                if failed {
+                    break;
+                }
             }
         }
         if event.is_none() && !commands.is_empty() {
@@ -225,7 +242,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if self.cancel.load(Ordering::Relaxed) {
             return Err(Interrupt::Cancel);
         }
-        let elapsed = self.robot.now() - self.start_time;
+        // The budget counts the robot time let pass, not the clock's reading: a clock that steps (an
+        // NTP correction) neither ends the run at once nor lets it run an hour over.
+        let elapsed = self.robot.elapsed() - self.start_elapsed;
         if elapsed >= self.config.executive.max_robot_time {
             return Err(Interrupt::TimeUp(elapsed));
         }
@@ -261,7 +280,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// Polls `status` every tick until the action is done.
     pub(crate) fn wait<T>(
         &mut self,
-        mut status: impl FnMut(&mut R) -> Result<ActionStatus<T>, RobotError>,
+        mut status: impl FnMut(&mut Watchdog<R>) -> Result<ActionStatus<T>, RobotError>,
     ) -> Result<T, Interrupt> {
         loop {
             if let ActionStatus::Done(outcome) = status(&mut self.robot)? {

@@ -51,6 +51,16 @@ enum HandMotion {
     Retract,
 }
 
+/// The largest contact force one guarded move met, beside the limit it was given: the ground truth
+/// a fault test checks the force against, whatever the wrist readings said.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForcePeak {
+    /// The move's force limit (N).
+    pub force_limit: f64,
+    /// The largest contact force on the hand during the move (N), bias and tare left out.
+    pub peak: f64,
+}
+
 /// The scripted fake robot.
 #[derive(Clone, Debug)]
 pub struct FakeRobot {
@@ -77,6 +87,7 @@ pub struct FakeRobot {
     bias: Vector3<f64>,
     tare: Vector3<f64>,
     samples: Vec<Stamped<Wrench>>,
+    peaks: Vec<ForcePeak>,
     failures: BTreeMap<&'static str, RobotError>,
     calls: Vec<String>,
 }
@@ -109,6 +120,7 @@ impl FakeRobot {
             bias: Vector3::new(0.8, -0.4, 1.1),
             tare: Vector3::zeros(),
             samples: Vec::new(),
+            peaks: Vec::new(),
             failures: BTreeMap::new(),
             calls: Vec::new(),
         }
@@ -144,6 +156,17 @@ impl FakeRobot {
     /// Makes the next call to `capability` ("base", "head", "camera", "wrist", "arm", "clock") fail.
     pub fn fail_next(&mut self, capability: &'static str, error: RobotError) {
         self.failures.insert(capability, error);
+    }
+
+    /// Every guarded move started so far, in order: its force limit and the largest contact force it
+    /// met.
+    pub fn force_peaks(&self) -> &[ForcePeak] {
+        &self.peaks
+    }
+
+    /// True when the hand stands still at its rest pose beside the body (retracted).
+    pub fn hand_at_rest(&self) -> bool {
+        self.hand_motion.is_none() && self.hand_pos == self.hand_rest
     }
 
     /// Every adapter call made so far, in order, e.g. `"start_walk 2"`.
@@ -322,8 +345,14 @@ impl FakeRobot {
                 }
                 self.hand_pos = motion.from + dir * travel;
                 self.force = -dir * force;
+                if let Some(p) = self.peaks.last_mut() {
+                    p.peak = p.peak.max(force);
+                }
                 let tared = (self.force + self.bias - self.tare).norm();
-                if tared >= limit {
+                // A hand the guard held back reports the limit even where the tared norm rounds a
+                // hair under it (a line with a vertical part): else it would stand still, running,
+                // for ever.
+                if stopped || tared >= limit {
                     let wrench = Stamped {
                         stamp: self.now,
                         value: Wrench {
@@ -508,6 +537,10 @@ impl Arm for FakeRobot {
         }
         self.hand_done = None;
         self.contact = self.contact_for(&motion);
+        self.peaks.push(ForcePeak {
+            force_limit: motion.force_limit,
+            peak: 0.0,
+        });
         self.hand_motion = Some(HandMotion::Guarded {
             motion,
             travelled: 0.0,

@@ -2,7 +2,7 @@
 //! colour clouds in the sensor frame as a real camera would, with a millimetre or two of range noise
 //! drawn from the pixel and the stamp (so a capture is the same whenever it is repeated).
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry2, Isometry3, Point3, Vector3};
 use nudge_perception::{CloudFrame, ColourCloud, Rgb};
 
 use super::scene::{FakeScene, SceneBox};
@@ -56,13 +56,15 @@ pub(super) fn render(scene: &FakeScene, pose: &Isometry3<f64>, stamp: f64) -> Co
     let (half_w, half_h) = ((c.h_fov / 2.0).tan(), (c.v_fov / 2.0).tan());
     let origin = Point3::from(pose.translation.vector);
     let seed = stamp.to_bits();
+    // Each box's map-to-box transform, once per frame rather than once per ray.
+    let boxes: Vec<_> = scene.boxes.iter().map(|b| (b, b.pose.inverse())).collect();
     for row in 0..c.height {
         let up = half_h * (1.0 - (2.0 * row as f64 + 1.0) / c.height as f64);
         for col in 0..c.width {
             let left = half_w * (1.0 - (2.0 * col as f64 + 1.0) / c.width as f64);
             let local = Vector3::new(1.0, left, up).normalize();
             let dir = pose.rotation * local;
-            match cast(scene, &origin, &dir) {
+            match cast(scene, &boxes, &origin, &dir) {
                 Some((t, colour)) if (c.min_range..=c.max_range).contains(&t) => {
                     let jitter = c.noise * unit_noise(seed, row, col);
                     let p = local * (t + jitter);
@@ -95,25 +97,38 @@ pub(super) fn render(scene: &FakeScene, pose: &Isometry3<f64>, stamp: f64) -> Co
 }
 
 /// The nearest surface along the ray from `origin` along the unit `dir` (map frame): its distance
-/// and colour.
-fn cast(scene: &FakeScene, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<(f64, Rgb)> {
-    let floor = (dir.z < -1e-9).then(|| {
-        let t = -origin.z / dir.z;
-        let p = origin + dir * t;
-        (t, texture(scene.floor, &p.coords, 12.0))
-    });
-    scene
-        .boxes
+/// and colour. Only the nearest surface is textured (the texture's sines are most of a frame's cost);
+/// at equal distances the first box wins, then the floor.
+fn cast(
+    scene: &FakeScene,
+    boxes: &[(&SceneBox, Isometry2<f64>)],
+    origin: &Point3<f64>,
+    dir: &Vector3<f64>,
+) -> Option<(f64, Rgb)> {
+    let floor = (dir.z < -1e-9)
+        .then(|| -origin.z / dir.z)
+        .filter(|t| *t > 0.0);
+    let nearest = boxes
         .iter()
-        .filter_map(|b| hit_box(b, origin, dir))
-        .chain(floor)
-        .filter(|(t, _)| *t > 0.0)
-        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .filter_map(|(b, inv)| hit_box(b, inv, origin, dir).map(|(t, local)| (t, b, local)))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    match (nearest, floor) {
+        (Some((t, b, local)), f) if f.is_none_or(|f| t <= f) => {
+            Some((t, texture(b.colour, &local, 40.0)))
+        }
+        (_, Some(t)) => Some((t, texture(scene.floor, &(origin + dir * t).coords, 12.0))),
+        (_, None) => None,
+    }
 }
 
-/// Where the ray meets `b`, with the colour of the box's texture there.
-fn hit_box(b: &SceneBox, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<(f64, Rgb)> {
-    let inv = b.pose.inverse();
+/// Where the ray meets `b` (`inv`: the inverse of its pose): its distance, and the point in the
+/// box's own frame (for its texture).
+fn hit_box(
+    b: &SceneBox,
+    inv: &Isometry2<f64>,
+    origin: &Point3<f64>,
+    dir: &Vector3<f64>,
+) -> Option<(f64, Vector3<f64>)> {
     let o2 = inv * nalgebra::Point2::new(origin.x, origin.y);
     let d2 = inv.rotation * nalgebra::Vector2::new(dir.x, dir.y);
     let o = Vector3::new(o2.x, o2.y, origin.z);
@@ -138,7 +153,7 @@ fn hit_box(b: &SceneBox, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<(f6
     if near > far || near <= 0.0 {
         return None;
     }
-    Some((near, texture(b.colour, &(o + d * near), 40.0)))
+    Some((near, o + d * near))
 }
 
 /// `base` varied by a smooth pattern of the position `p` (in the surface's own frame), `amplitude`

@@ -1,0 +1,55 @@
+//! Wrist readings of NaN.
+
+use nalgebra::Vector3;
+
+use super::FaultWindow;
+use super::forward::{fault, forward};
+use crate::robot::{Robot, RobotError, Stamped, Wrench, WristSensor};
+
+/// While its window fires, wrist readings (from [`WristSensor::wrench`] and every sample of
+/// [`WristSensor::drain_wrenches`]) carry NaN force and torque: what a sensor driver that lost its
+/// calibration or a division by a zero gain gives. Each reading is a chance. A NaN compares false
+/// with every threshold, so an executive that only asks "is the force above the limit?" never sees
+/// it. The adapter's own guard reads its sensor, not this (see [`super`]). Every other call is
+/// forwarded.
+#[derive(Debug)]
+pub struct NanWrench<R> {
+    inner: R,
+    window: FaultWindow,
+}
+
+impl<R: Robot> NanWrench<R> {
+    /// Wraps `inner`; a reading becomes NaN whenever `window` fires.
+    pub fn new(inner: R, window: FaultWindow) -> Self {
+        Self { inner, window }
+    }
+
+    fn spoil(&self, mut reading: Stamped<Wrench>) -> Stamped<Wrench> {
+        if self.window.fires(reading.stamp) {
+            reading.value = Wrench {
+                force: Vector3::repeat(f64::NAN),
+                torque: Vector3::repeat(f64::NAN),
+            };
+        }
+        reading
+    }
+}
+
+fault!(NanWrench);
+forward!(NanWrench: Clock, Base, Head, RangeCamera, Arm);
+
+impl<R: Robot> WristSensor for NanWrench<R> {
+    fn tare(&mut self) -> Result<(), RobotError> {
+        self.inner.tare()
+    }
+
+    fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
+        let reading = self.inner.wrench()?;
+        Ok(self.spoil(reading))
+    }
+
+    fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
+        let samples = self.inner.drain_wrenches()?;
+        Ok(samples.into_iter().map(|s| self.spoil(s)).collect())
+    }
+}
