@@ -147,4 +147,32 @@ macro_rules! fault {
     };
 }
 
-pub(crate) use {fault, forward};
+/// Implements [`crate::robot::WristSensor`] for `$ty<R>` by passing every reading through its
+/// `spoil(&mut self, Stamped<Wrench>) -> Stamped<Wrench>` (a `&self` one does too); tare forwards.
+macro_rules! spoiled_wrist {
+    ($ty:ident) => {
+        impl<R: $crate::robot::Robot> $crate::robot::WristSensor for $ty<R> {
+            fn tare(&mut self) -> Result<(), $crate::robot::RobotError> {
+                $crate::robot::WristSensor::tare(&mut self.inner)
+            }
+            fn wrench(
+                &mut self,
+            ) -> Result<$crate::robot::Stamped<$crate::robot::Wrench>, $crate::robot::RobotError>
+            {
+                let reading = $crate::robot::WristSensor::wrench(&mut self.inner)?;
+                Ok(self.spoil(reading))
+            }
+            fn drain_wrenches(
+                &mut self,
+            ) -> Result<
+                Vec<$crate::robot::Stamped<$crate::robot::Wrench>>,
+                $crate::robot::RobotError,
+            > {
+                let samples = $crate::robot::WristSensor::drain_wrenches(&mut self.inner)?;
+                Ok(samples.into_iter().map(|s| self.spoil(s)).collect())
+            }
+        }
+    };
+}
+
+pub(crate) use {fault, forward, spoiled_wrist};

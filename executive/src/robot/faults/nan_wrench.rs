@@ -3,8 +3,8 @@
 use nalgebra::Vector3;
 
 use super::FaultWindow;
-use super::forward::{fault, forward};
-use crate::robot::{Robot, RobotError, Stamped, Wrench, WristSensor};
+use super::forward::{fault, forward, spoiled_wrist};
+use crate::robot::{Robot, Stamped, Wrench};
 
 /// While its window fires, wrist readings (from [`WristSensor::wrench`] and every sample of
 /// [`WristSensor::drain_wrenches`]) carry NaN force and torque: what a sensor driver that lost its
@@ -38,18 +38,4 @@ impl<R: Robot> NanWrench<R> {
 fault!(NanWrench);
 forward!(NanWrench: Clock, Base, Head, RangeCamera, Arm);
 
-impl<R: Robot> WristSensor for NanWrench<R> {
-    fn tare(&mut self) -> Result<(), RobotError> {
-        self.inner.tare()
-    }
-
-    fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
-        let reading = self.inner.wrench()?;
-        Ok(self.spoil(reading))
-    }
-
-    fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
-        let samples = self.inner.drain_wrenches()?;
-        Ok(samples.into_iter().map(|s| self.spoil(s)).collect())
-    }
-}
+spoiled_wrist!(NanWrench);

@@ -1,8 +1,8 @@
 //! A wrist sensor stuck on its last reading.
 
 use super::FaultWindow;
-use super::forward::{fault, forward};
-use crate::robot::{Robot, RobotError, Stamped, Wrench, WristSensor};
+use super::forward::{fault, forward, spoiled_wrist};
+use crate::robot::{Robot, Stamped, Wrench};
 
 /// Once its window fires, the wrist sensor repeats the last reading it gave before, forever (the
 /// stamps go on): a frozen driver or a sensor whose bus stopped updating while the transport still
@@ -43,18 +43,4 @@ impl<R: Robot> StuckWrench<R> {
 fault!(StuckWrench);
 forward!(StuckWrench: Clock, Base, Head, RangeCamera, Arm);
 
-impl<R: Robot> WristSensor for StuckWrench<R> {
-    fn tare(&mut self) -> Result<(), RobotError> {
-        self.inner.tare()
-    }
-
-    fn wrench(&mut self) -> Result<Stamped<Wrench>, RobotError> {
-        let reading = self.inner.wrench()?;
-        Ok(self.spoil(reading))
-    }
-
-    fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
-        let samples = self.inner.drain_wrenches()?;
-        Ok(samples.into_iter().map(|s| self.spoil(s)).collect())
-    }
-}
+spoiled_wrist!(StuckWrench);
