@@ -66,11 +66,21 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
     let _ = ctrlc::set_handler(move || handler.stop());
     let mut lines: Vec<RunLine> = Vec::with_capacity(jobs.len());
     // Lines are written in run order as soon as every earlier run is done, so the file is the same
-    // whatever order the workers finish in.
+    // whatever order the workers start and finish in.
     let mut pending: BTreeMap<usize, Option<RunLine>> = BTreeMap::new();
     let mut next = 0;
     let mut failures = 0;
     let mut write_error: Option<std::io::Error> = None;
+    let write = |line: &RunLine, out: &mut dyn Write, write_error: &mut Option<std::io::Error>| {
+        if write_error.is_none()
+            && let Err(e) = serde_json::to_string(line)
+                .map_err(std::io::Error::other)
+                .and_then(|json| writeln!(out, "{json}"))
+                .and_then(|()| out.flush())
+        {
+            *write_error = Some(e);
+        }
+    };
     run_all(&jobs, threads, &cancel, |i, result| {
         let line = match result {
             Ok(done) => {
@@ -96,17 +106,16 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
         while let Some(line) = pending.remove(&next) {
             next += 1;
             let Some(line) = line else { continue };
-            if write_error.is_none()
-                && let Err(e) = serde_json::to_string(&line)
-                    .map_err(std::io::Error::other)
-                    .and_then(|json| writeln!(out, "{json}"))
-                    .and_then(|()| out.flush())
-            {
-                write_error = Some(e);
-            }
+            write(&line, &mut out, &mut write_error);
             lines.push(line);
         }
     });
+    // A cancelled batch leaves jobs that never started: the runs that finished after them are
+    // still written, in run order.
+    for line in std::mem::take(&mut pending).into_values().flatten() {
+        write(&line, &mut out, &mut write_error);
+        lines.push(line);
+    }
     bar.finish_and_clear();
     out.flush()
         .with_context(|| format!("cannot write {}", out_path.display()))?;

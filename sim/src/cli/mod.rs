@@ -11,6 +11,7 @@ mod pool;
 mod report;
 mod results;
 mod run;
+mod schedule;
 mod source;
 mod timeline;
 

@@ -6,14 +6,16 @@
 //! sensor's rows, the perception passes, ICP) run in order there instead of on the process-wide pool.
 //! Sharing that pool made `--jobs N` put N runs' fine-grained tasks onto one set of threads: runs
 //! waited on each other's tasks, and idle pool threads spun, so 16 jobs on 16 cores gave 3.8× one
-//! job. Runs are independent and about equally long, so one run per core wastes nothing but the
-//! batch's tail; and the results do not depend on the number of threads (`world_determinism`).
+//! job. Runs are independent, so one run per core wastes nothing but the batch's tail, which
+//! starting the longest runs first keeps short ([`Schedule`]); and the results depend neither on the
+//! number of threads (`world_determinism`) nor on the order runs start in.
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+use super::schedule::Schedule;
 use crate::metrics::{RunMetrics, Start, measure};
 use crate::run::runner;
 use crate::scenario::Scenario;
@@ -167,19 +169,31 @@ pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
 }
 
 /// Runs `jobs` on `threads` worker threads; `on_done(index, result)` is called on this thread as
-/// each finishes, in completion order. Jobs not started when `cancel` stops are skipped.
+/// each finishes, in completion order. Jobs start longest first as far as the runs so far tell
+/// ([`Schedule`]); jobs not started when `cancel` stops are skipped.
 pub fn run_all(
     jobs: &[Job<'_>],
     threads: usize,
     cancel: &Cancel,
     mut on_done: impl FnMut(usize, Result<Done, NotDone>),
 ) {
-    let next = AtomicUsize::new(0);
+    // A kind is one scenario under one policy: the same room and task, other seeds.
+    let kind_of: Vec<usize> = jobs
+        .iter()
+        .map(|job| {
+            jobs.iter()
+                .position(|other| {
+                    std::ptr::eq(other.scenario, job.scenario) && other.policy == job.policy
+                })
+                .unwrap_or(0)
+        })
+        .collect();
+    let schedule = Mutex::new(Schedule::new(&kind_of));
+    let next = &schedule;
     let (sender, receiver) = mpsc::channel();
     std::thread::scope(|scope| {
         for _ in 0..threads.clamp(1, jobs.len().max(1)) {
             let sender = sender.clone();
-            let next = &next;
             scope.spawn(move || {
                 let Ok(pool) = one_thread_pool() else {
                     // No pool: the runs use the shared one, slower when many run, same results.
@@ -206,16 +220,30 @@ fn one_thread_pool() -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
 /// One worker's loop: takes the next job until none is left or the batch is cancelled.
 fn work(
     jobs: &[Job<'_>],
-    next: &AtomicUsize,
+    schedule: &Mutex<Schedule>,
     cancel: &Cancel,
     sender: &mpsc::Sender<(usize, Result<Done, NotDone>)>,
 ) {
+    // A poisoned lock means another worker panicked mid-update; the schedule stays usable.
+    let lock = || {
+        schedule
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    };
     loop {
-        let i = next.fetch_add(1, Ordering::Relaxed);
-        if i >= jobs.len() || cancel.is_stopped() {
+        if cancel.is_stopped() {
             break;
         }
-        if sender.send((i, execute(&jobs[i], cancel))).is_err() {
+        let started = Instant::now();
+        let Some(i) = lock().start(started) else {
+            break;
+        };
+        let Some(job) = jobs.get(i) else {
+            break;
+        };
+        let result = execute(job, cancel);
+        lock().finish(i, started.elapsed());
+        if sender.send((i, result)).is_err() {
             break;
         }
     }
