@@ -1,0 +1,105 @@
+//! One image row: a ray per pixel, its nearest surface, and the noisy range and colour it returns.
+
+use nalgebra::Point3;
+use rapier3d::geometry::Ray;
+use rapier3d::math::{Matrix, Pose, Real, Vector};
+
+use super::ColourRangeSensor;
+use super::noise::{RayRng, gaussian};
+use super::scene::SensorScene;
+use crate::surface::{Owner, Surface};
+
+/// One row's slices of the output arrays.
+pub(super) struct RowOut<'r> {
+    pub(super) x: &'r mut [f32],
+    pub(super) y: &'r mut [f32],
+    pub(super) z: &'r mut [f32],
+    pub(super) rgb: &'r mut [[u8; 3]],
+}
+
+/// Everything one capture shares between rows.
+pub(super) struct Frame<'f> {
+    pub(super) sensor: &'f ColourRangeSensor,
+    pub(super) scene: &'f SensorScene<'f>,
+    pub(super) pose: Pose,
+    pub(super) frame_seed: u64,
+}
+
+/// The nearest surface a ray meets.
+pub(super) struct Hit {
+    /// The frame the surface's pattern is fixed to: the pose of the collider, or of the compound's
+    /// part, that was hit.
+    pub(super) frame: Pose,
+    pub(super) surface: Option<Surface>,
+    /// Distance along the ray (m).
+    pub(super) toi: Real,
+    /// World-frame surface normal at the hit.
+    pub(super) normal: Vector,
+}
+
+/// Finds the nearest surface along each ray of a row; one per rayon worker.
+pub(super) trait RowCaster<'c> {
+    /// Prepares for the rays of `row`.
+    fn begin_row(&mut self, row: usize);
+    /// The nearest surface within `max_range` along `ray`, the ray of column `col`.
+    fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit>;
+}
+
+impl Frame<'_> {
+    /// Traces every pixel of `row` and writes its return (or NaN) into `out`.
+    pub(super) fn trace_row<'c>(
+        &self,
+        caster: &mut impl RowCaster<'c>,
+        row: usize,
+        out: RowOut<'_>,
+    ) {
+        let config = &self.sensor.config;
+        let width = config.width;
+        let min_range = config.min_range as Real;
+        let max_range = config.max_range as Real;
+        let first = row * width;
+        let dirs = &self.sensor.directions[first..first + width];
+        caster.begin_row(row);
+        let rotation = Matrix::from_quat(self.pose.rotation);
+
+        for (col, dir) in dirs.iter().enumerate() {
+            let world_dir = rotation * *dir;
+            let ray = Ray::new(self.pose.translation, world_dir);
+            let Some(hit) = caster.first_hit(col, &ray, max_range) else {
+                continue;
+            };
+            let toi = hit.toi;
+            let cos_incidence = hit.normal.dot(world_dir).abs();
+            let own_part =
+                config.self_filter && hit.surface.is_some_and(|s| matches!(s.owner, Owner::Robot));
+            if toi < min_range || cos_incidence < self.sensor.min_cos_incidence || own_part {
+                continue;
+            }
+
+            let mut noise = RayRng::new(self.frame_seed, first + col);
+            let true_range = f64::from(toi);
+            let sigma = config.range_sigma(true_range, f64::from(cos_incidence));
+            let range = true_range + sigma * gaussian(&mut noise);
+            let p = *dir * range as Real;
+            out.x[col] = p.x;
+            out.y[col] = p.y;
+            out.z[col] = p.z;
+
+            let base = match &hit.surface {
+                Some(surface) => {
+                    let world_hit = ray.origin + world_dir * toi;
+                    let local = hit.frame.inverse_transform_point(world_hit);
+                    let local =
+                        Point3::new(f64::from(local.x), f64::from(local.y), f64::from(local.z));
+                    surface.colour_at(local, self.scene.texture_seed)
+                }
+                None => config.unknown_colour,
+            };
+            out.rgb[col] = base.map(|c| {
+                let v = f64::from(c) + config.colour_noise_sigma * gaussian(&mut noise);
+                // Rounds half up; the float-to-int cast saturates, which clamps to 0–255.
+                (v + 0.5) as u8
+            });
+        }
+    }
+}
