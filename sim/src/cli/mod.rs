@@ -84,6 +84,11 @@ fn policy_word(p: CandidatePolicy) -> &'static str {
     }
 }
 
+/// `--jobs`: a count of runs at once; 0 is refused (it would run nothing, or quietly one).
+fn at_least_one_job() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::<usize>::new().range(1..)
+}
+
 /// Worker threads when `--jobs` is not given: one per core.
 fn cores() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -124,8 +129,8 @@ struct CheckArgs {
     /// Candidate policy.
     #[arg(long, value_enum, default_value = "nearest")]
     policy: Policy,
-    /// Runs at once (default: one per core).
-    #[arg(long, value_parser = clap::value_parser!(usize))]
+    /// Runs at once, at least 1 (default: one per core).
+    #[arg(long, value_parser = at_least_one_job())]
     jobs: Option<usize>,
 }
 
@@ -137,8 +142,8 @@ struct BatchArgs {
     /// Seeds per scenario and policy: offset k runs with the scenario's seed + k, k = 0..N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
-    /// Runs at once (default: one per core).
-    #[arg(long, value_name = "J", value_parser = clap::value_parser!(usize))]
+    /// Runs at once, at least 1 (default: one per core).
+    #[arg(long, value_name = "J", value_parser = at_least_one_job())]
     jobs: Option<usize>,
     /// Result file, one JSON line per run (default results.jsonl, or results.shard-I-of-N.jsonl).
     #[arg(long, value_name = "FILE.jsonl")]
@@ -262,6 +267,25 @@ mod tests {
         ] {
             let err = bad.parse::<Shard>().expect_err(bad);
             assert!(err.contains(why), "{bad}: {err}");
+        }
+    }
+
+    #[test]
+    fn zero_jobs_is_refused_naming_the_argument() {
+        // Invariant: `--jobs 0` (which would run nothing) is refused with a message naming --jobs,
+        // for batch and check alike; `--jobs 1` parses.
+        use clap::Parser;
+        for command in ["batch", "check"] {
+            let err =
+                Cli::try_parse_from(["nudge", command, "scenarios", "--seeds", "1", "--jobs", "0"])
+                    .expect_err(command)
+                    .to_string();
+            assert!(err.contains("--jobs"), "{command}: {err}");
+            assert!(
+                Cli::try_parse_from(["nudge", command, "scenarios", "--seeds", "1", "--jobs", "1"])
+                    .is_ok(),
+                "{command}"
+            );
         }
     }
 }
