@@ -27,21 +27,30 @@ pub struct Scored {
 /// Farthest an obstacle's centroid may lie from a true object's centre to be that object (m).
 pub const MATCH_DISTANCE: f64 = 0.4;
 
-/// Matches every verdict of `report` to the true object its obstacle covers most of, at the end of
-/// the run (the object's footprint where it stands then against the obstacle's): an obstacle seen in
-/// part (a long shelf's near end) has its centroid far from the object's centre, but it lies on the
-/// object. An obstacle that covers no object is matched to the object whose centre lies nearest its
-/// centroid within [`MATCH_DISTANCE`].
+/// Matches every verdict of `report` to the true object its obstacle covers most of when the robot
+/// reached the verdict (the obstacle as the executive knew it then, against each object's footprint
+/// where it stood then): a verdict is about what the robot pushed, and a later push may move another
+/// object into where the obstacle lay (a bin cleared against a partition found static). A verdict
+/// without that record is matched at the end of the run, the obstacle and the objects as they are
+/// then. An obstacle seen in part (a long shelf's near end) has its centroid far from the object's
+/// centre, but it lies on the object. An obstacle that covers no object is matched to the object
+/// whose centre lies nearest its centroid within [`MATCH_DISTANCE`].
 pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
     let world = robot.world();
-    let truth = Truth::new(world);
-    // Every scenario object with its index and its true pose now.
-    let standing = || {
+    let truth = &Truth::new(world);
+    // Every scenario object with its index and its true pose at `time` (now when `None`).
+    let standing = |time: Option<f64>| {
         world
             .objects()
             .iter()
             .enumerate()
-            .filter_map(|(i, (spec, _))| Some((i, spec, truth.object_pose(i)?)))
+            .filter_map(move |(i, (spec, _))| {
+                let pose = match time {
+                    Some(t) => world.object_pose_at(i, t),
+                    None => truth.object_pose(i),
+                };
+                Some((i, spec, pose?))
+            })
     };
     report
         .knowledge
@@ -49,9 +58,12 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
         .verdicts
         .iter()
         .map(|(id, verdict)| {
-            let prism = report.obstacle(*id);
+            let (prism, time) = match report.decisions.get(id) {
+                Some(decision) => (Some(&decision.prism), Some(decision.stamp)),
+                None => (report.obstacle(*id), None),
+            };
             let covered = prism.and_then(|p| {
-                standing()
+                standing(time)
                     .filter_map(|(i, spec, pose)| {
                         let outline = true_outline(spec, &pose)?;
                         let area = convex_intersection_area(&p.footprint, &outline);
@@ -62,7 +74,7 @@ pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {
             let centroid = prism.map(centroid);
             let nearest = covered.or_else(|| {
                 centroid.and_then(|c| {
-                    standing()
+                    standing(time)
                         .filter_map(|(i, spec, pose)| {
                             let d =
                                 (Point2::new(pose.translation.x, pose.translation.y) - c).norm();

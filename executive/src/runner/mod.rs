@@ -28,7 +28,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 pub use config::{CameraModel, GridSetup, PushMotionConfig, RunConfig, ViewSetup};
-pub use report::{RunReport, TimelineEntry};
+pub use report::{Decision, RunReport, TimelineEntry};
 use watchdog::Watchdog;
 use world::WorldModel;
 
@@ -120,6 +120,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.start_elapsed = self.robot.elapsed();
         self.start_grid();
         let mut timeline = Vec::new();
+        let mut decisions = std::collections::BTreeMap::new();
         let mut step = start();
         self.record(&mut timeline, None, &step);
         while !step.state.is_terminal() {
@@ -128,7 +129,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             };
             let next = transition(&step.state, &step.knowledge, &event, &self.config.executive);
             self.record(&mut timeline, Some(&step.state), &next);
-            self.report_verdicts(&step.knowledge, &next.knowledge, &event);
+            self.report_verdicts(&step.knowledge, &next.knowledge, &event, &mut decisions);
             step = next;
         }
         RunReport {
@@ -140,6 +141,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             joined: self.world.joined.clone(),
             sequences: self.world.sequences.clone(),
             grid: self.world.grid.clone(),
+            decisions,
         }
     }
 
@@ -155,7 +157,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         });
     }
 
-    fn report_verdicts(&mut self, before: &Knowledge, after: &Knowledge, event: &Event) {
+    /// Tells the observer of each verdict a push test just reached, and notes the obstacle as it
+    /// stands now in `decisions`.
+    fn report_verdicts(
+        &mut self,
+        before: &Knowledge,
+        after: &Knowledge,
+        event: &Event,
+        decisions: &mut std::collections::BTreeMap<nudge_perception::ObjectId, Decision>,
+    ) {
         let Event::PushTestDone(evidence) = event else {
             return;
         };
@@ -163,6 +173,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         for (id, verdict) in &after.explanation.verdicts {
             if before.explanation.verdicts.get(id) != Some(verdict) {
                 self.observer.verdict(stamp, *id, verdict, evidence);
+                match self.world.prisms.iter().find(|p| p.id == *id) {
+                    Some(prism) => {
+                        let prism = prism.clone();
+                        decisions.insert(*id, Decision { stamp, prism });
+                    }
+                    None => {
+                        decisions.remove(id);
+                    }
+                }
             }
         }
     }

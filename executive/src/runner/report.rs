@@ -19,6 +19,16 @@ pub struct TimelineEntry {
     pub to: &'static str,
 }
 
+/// An obstacle as it stood when the robot reached its latest verdict on it: what the verdict was
+/// about, whatever pushes did to the room afterwards.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Decision {
+    /// Robot-clock time of the verdict (s).
+    pub stamp: f64,
+    /// The obstacle then.
+    pub prism: Prism,
+}
+
 /// The outcome of a run with its evidence and timeline.
 #[derive(Clone, Debug)]
 pub struct RunReport {
@@ -40,6 +50,8 @@ pub struct RunReport {
     /// The push sequences the last sequence search considered when no single push opened the way,
     /// each with what stopped it (empty when none was searched, or the last search found one).
     pub sequences: Vec<nudge_motion::PairRecord>,
+    /// Per obstacle with a verdict, the obstacle and the time of its latest verdict.
+    pub decisions: std::collections::BTreeMap<ObjectId, Decision>,
 }
 
 /// Two reports are equal when everything they say is: the grids compare by placement and by every cell's
@@ -58,6 +70,7 @@ impl PartialEq for RunReport {
             && self.obstacles == other.obstacles
             && self.joined == other.joined
             && self.sequences == other.sequences
+            && self.decisions == other.decisions
             && grid(self) == grid(other)
     }
 }
@@ -119,6 +132,7 @@ mod tests {
                 .chain([(ObjectId(7), ObjectId(8)), (ObjectId(8), ObjectId(7))])
                 .collect(),
             sequences: Vec::new(),
+            decisions: Default::default(),
         };
         assert_eq!(
             report.obstacle(ObjectId(36)).map(|p| p.id),

@@ -19,6 +19,7 @@
 pub mod build;
 pub mod convert;
 pub mod effort;
+mod pose_log;
 
 use std::collections::HashMap;
 
@@ -139,6 +140,8 @@ pub struct World {
     touching_person: bool,
     /// Whether an object the hand pushes touched a person at the last step.
     pushed_touching_person: bool,
+    /// Where each object stood over the run.
+    pose_log: pose_log::PoseLog,
 }
 
 impl World {
@@ -214,10 +217,15 @@ impl World {
             hand_touching: false,
             touching_person: false,
             pushed_touching_person: false,
+            pose_log: pose_log::PoseLog::default(),
         };
         // Settle contacts and fill the query structures before anyone senses.
         world.physics.integration_parameters.dt = 0.0;
         world.physics.step();
+        world.pose_log = pose_log::PoseLog::new(
+            (0..world.objects.len())
+                .filter_map(|i| Some((world.objects[i].1, world.object_pose(i)?))),
+        );
         Ok(world)
     }
 
@@ -341,6 +349,17 @@ impl World {
             .bodies
             .get(*body)
             .map(|b| iso_from_pose(b.position()))
+    }
+
+    /// Where object `i` stood at `time` (s of simulated time), to within [`pose_log::LOG_STEP`] and
+    /// [`pose_log::LOG_TURN`]; its pose at the start for times before then.
+    pub fn object_pose_at(&self, i: usize, time: f64) -> Option<Isometry3<f64>> {
+        let time_us = if time.is_finite() {
+            (time.max(0.0) * 1.0e6) as u64
+        } else {
+            u64::MAX
+        };
+        self.pose_log.at(i, time_us)
     }
 
     /// The speed of object `i`'s centre of mass (m/s).
@@ -484,12 +503,24 @@ impl World {
             if let Some(joint) = self.physics.impulse_joints.get(self.humanoid.parts().joint) {
                 self.wrist_truth = wrench_on_wrist(joint, substeps, h);
             }
+            self.log_moving_objects(t1);
         }
         self.measure_effort(h, before);
         let truth = self.wrist_truth;
         let reading = self.wrist_ft.record(&truth, self.time_us, t1);
         self.time_us = t1;
         self.check_guard(reading);
+    }
+
+    /// Notes the pose of every object the physics moved this step.
+    fn log_moving_objects(&mut self, time_us: u64) {
+        for body in self.physics.islands.active_bodies() {
+            if let Some(i) = self.pose_log.object_of(body)
+                && let Some(b) = self.physics.bodies.get(body)
+            {
+                self.pose_log.note(i, time_us, iso_from_pose(b.position()));
+            }
+        }
     }
 
     /// Where the base and the hand are on the floor plan.
