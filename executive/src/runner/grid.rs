@@ -372,9 +372,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .and_then(|frame| grid.update(&frame, cloud.stamp()));
         if result.is_ok() && motion {
             let moving = CellClass::Moving as u8;
+            let now = self.robot.elapsed();
             for (stamp, &code) in self.world.last_motion.iter_mut().zip(grid.class_codes()) {
                 if code == moving {
-                    *stamp = cloud.stamp();
+                    *stamp = now;
                 }
             }
         }
@@ -526,7 +527,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let Some(grid) = self.world.grid.as_ref() else {
             return false;
         };
-        let since = self.robot.now() - self.config.grid.mover_memory;
+        // Robot time let pass, not the clock's reading (see `WorldModel::last_motion`).
+        let since = self.robot.elapsed() - self.config.grid.mover_memory;
         let geometry = grid.geometry();
         let r = geometry.resolution();
         let Some(mut cells) = footprint_box(geometry, prism, 1.0) else {

@@ -46,8 +46,10 @@ pub(crate) struct WorldModel {
     /// Obstacles a later look showed to be part of another, with the id of the one they joined (a
     /// table tested at one end, found whole later): their verdicts are about that obstacle.
     pub joined: std::collections::BTreeMap<ObjectId, ObjectId>,
-    /// Per grid cell, the robot-clock stamp of the last look or walk frame that left it Moving (NaN:
-    /// never). Frames of the robot's own pushes do not count: that motion is its own doing.
+    /// Per grid cell, when the last look or walk frame that left it Moving came in, as robot time let
+    /// pass ([`super::watchdog::Watchdog::elapsed`], NaN: never): that time only runs forward, so a
+    /// clock that steps back an hour cannot make old motion count as lately for an hour. Frames of
+    /// the robot's own pushes do not count: that motion is its own doing.
     pub last_motion: Vec<f64>,
     /// What the run has seen besides the grid's observations, and what it gave up asking about.
     pub memory: SeenMemory,
