@@ -5,7 +5,6 @@
 //! order given, then seed offsets 0..N. Offset k runs with seed `scenario.seed + k`, so offset 0 is
 //! the run `nudge run FILE` does.
 
-use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -64,23 +63,13 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
     let cancel = Cancel::default();
     let handler = cancel.clone();
     let _ = ctrlc::set_handler(move || handler.stop());
-    let mut lines: Vec<RunLine> = Vec::with_capacity(jobs.len());
-    // Lines are written in run order as soon as every earlier run is done, so the file is the same
-    // whatever order the workers start and finish in.
-    let mut pending: BTreeMap<usize, Option<RunLine>> = BTreeMap::new();
-    let mut next = 0;
+    // Each line is written as its run finishes, so a batch killed midway loses no finished run;
+    // when the batch ends the file is rewritten in run order, so it is the same whatever order the
+    // workers start and finish in.
+    let mut finished: Vec<Option<RunLine>> = Vec::new();
+    finished.resize_with(jobs.len(), || None);
     let mut failures = 0;
     let mut write_error: Option<std::io::Error> = None;
-    let write = |line: &RunLine, out: &mut dyn Write, write_error: &mut Option<std::io::Error>| {
-        if write_error.is_none()
-            && let Err(e) = serde_json::to_string(line)
-                .map_err(std::io::Error::other)
-                .and_then(|json| writeln!(out, "{json}"))
-                .and_then(|()| out.flush())
-        {
-            *write_error = Some(e);
-        }
-    };
     run_all(&jobs, threads, &cancel, |i, result| {
         let line = match result {
             Ok(done) => {
@@ -102,25 +91,30 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
             }
         };
         bar.inc(1);
-        pending.insert(i, line);
-        while let Some(line) = pending.remove(&next) {
-            next += 1;
-            let Some(line) = line else { continue };
-            write(&line, &mut out, &mut write_error);
-            lines.push(line);
+        if let Some(line) = &line
+            && write_error.is_none()
+            && let Err(e) = write_line(line, &mut out)
+        {
+            write_error = Some(e);
+        }
+        if let Some(slot) = finished.get_mut(i) {
+            *slot = line;
         }
     });
-    // A cancelled batch leaves jobs that never started: the runs that finished after them are
-    // still written, in run order.
-    for line in std::mem::take(&mut pending).into_values().flatten() {
-        write(&line, &mut out, &mut write_error);
-        lines.push(line);
-    }
     bar.finish_and_clear();
     out.flush()
         .with_context(|| format!("cannot write {}", out_path.display()))?;
+    drop(out);
     if let Some(e) = write_error {
         return Err(e).with_context(|| format!("cannot write {}", out_path.display()));
+    }
+    let lines: Vec<RunLine> = finished.into_iter().flatten().collect();
+    if let Err(e) = rewrite_in_order(&out_path, &lines) {
+        // The file still holds every line, in the order the runs finished.
+        eprintln!(
+            "nudge: {} holds its lines in finishing order: {e:#}",
+            out_path.display()
+        );
     }
     print!("{}", table(&lines, Group::Family));
     println!("{} result lines in {}", lines.len(), out_path.display());
@@ -135,6 +129,36 @@ pub(super) fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
         ExitCode::from(EXIT_INPUT)
     } else {
         ExitCode::SUCCESS
+    })
+}
+
+/// Appends `line` to `out` as one JSON line and flushes it.
+fn write_line(line: &RunLine, out: &mut impl Write) -> std::io::Result<()> {
+    let json = serde_json::to_string(line).map_err(std::io::Error::other)?;
+    writeln!(out, "{json}")?;
+    out.flush()
+}
+
+/// Replaces `path` with `lines` in run order, through a file beside it renamed over it, so the
+/// results are never half written.
+fn rewrite_in_order(path: &std::path::Path, lines: &[RunLine]) -> anyhow::Result<()> {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".in-order");
+    let sorted = path.with_file_name(name);
+    let mut out = BufWriter::new(
+        File::create(&sorted).with_context(|| format!("cannot create {}", sorted.display()))?,
+    );
+    for line in lines {
+        write_line(line, &mut out).with_context(|| format!("cannot write {}", sorted.display()))?;
+    }
+    drop(out);
+    std::fs::rename(&sorted, path).map_err(|e| {
+        let _ = std::fs::remove_file(&sorted);
+        anyhow::Error::new(e).context(format!(
+            "cannot rename {} to {}",
+            sorted.display(),
+            path.display()
+        ))
     })
 }
 
