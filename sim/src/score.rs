@@ -27,12 +27,12 @@ pub struct Scored {
 /// Farthest an obstacle's centroid may lie from a true object's centre to be that object (m).
 pub const MATCH_DISTANCE: f64 = 0.4;
 
-/// Matches every verdict of `report` to the true object its obstacle covers most of when the robot
-/// reached the verdict (the obstacle as the executive knew it then, against each object's footprint
-/// where it stood then): a verdict is about what the robot pushed, and a later push may move another
-/// object into where the obstacle lay (a bin cleared against a partition found static). A verdict
-/// without that record is matched at the end of the run, the obstacle and the objects as they are
-/// then. An obstacle seen in part (a long shelf's near end) has its centroid far from the object's
+/// Matches every verdict of `report` to the true object its obstacle covers most of when the push
+/// test that led to it began (the obstacle as the executive knew it then, against each object's
+/// footprint where it stood then, [`nudge_executive::runner::Decision`]): a verdict is about what the
+/// robot pushed, and a later push may move another object into where the obstacle lay (a bin cleared
+/// against a partition found static). A verdict without that record is matched at the end of the
+/// run, the obstacle and the objects as they are then. An obstacle seen in part (a long shelf's near end) has its centroid far from the object's
 /// centre, but it lies on the object. An obstacle that covers no object is matched to the object
 /// whose centre lies nearest its centroid within [`MATCH_DISTANCE`].
 pub fn score(report: &RunReport, robot: &SimRobot) -> Vec<Scored> {

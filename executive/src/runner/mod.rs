@@ -121,6 +121,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.start_grid();
         let mut timeline = Vec::new();
         let mut decisions = std::collections::BTreeMap::new();
+        let mut tests_begun = std::collections::BTreeMap::new();
         let mut step = start();
         self.record(&mut timeline, None, &step);
         while !step.state.is_terminal() {
@@ -129,7 +130,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             };
             let next = transition(&step.state, &step.knowledge, &event, &self.config.executive);
             self.record(&mut timeline, Some(&step.state), &next);
-            self.report_verdicts(&step.knowledge, &next.knowledge, &event, &mut decisions);
+            self.note_test_begun(&step.state, &next.state, &mut tests_begun);
+            self.report_verdicts(
+                &step.knowledge,
+                &next.knowledge,
+                &event,
+                &tests_begun,
+                &mut decisions,
+            );
             step = next;
         }
         RunReport {
@@ -157,13 +165,40 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         });
     }
 
-    /// Tells the observer of each verdict a push test just reached, and notes the obstacle as it
-    /// stands now in `decisions`.
+    /// Notes the obstacle and the time when a first push test of it begins (`to` a push test of
+    /// attempt 1 entered from another state): the object as it stood before the test's own strokes
+    /// moved it.
+    fn note_test_begun(
+        &self,
+        from: &State,
+        to: &State,
+        begun: &mut std::collections::BTreeMap<nudge_perception::ObjectId, Decision>,
+    ) {
+        if let State::PushTest {
+            target, attempt: 1, ..
+        } = to
+            && !matches!(from, State::PushTest { target: t, .. } if t == target)
+            && let Some(prism) = self.world.prisms.iter().find(|p| p.id == *target)
+        {
+            let stamp = self.robot.now();
+            begun.insert(
+                *target,
+                Decision {
+                    stamp,
+                    prism: prism.clone(),
+                },
+            );
+        }
+    }
+
+    /// Tells the observer of each verdict a push test just reached, and notes in `decisions` what
+    /// the verdict is about: the obstacle and the time when its first test began (`begun`).
     fn report_verdicts(
         &mut self,
         before: &Knowledge,
         after: &Knowledge,
         event: &Event,
+        begun: &std::collections::BTreeMap<nudge_perception::ObjectId, Decision>,
         decisions: &mut std::collections::BTreeMap<nudge_perception::ObjectId, Decision>,
     ) {
         let Event::PushTestDone(evidence) = event else {
@@ -173,10 +208,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         for (id, verdict) in &after.explanation.verdicts {
             if before.explanation.verdicts.get(id) != Some(verdict) {
                 self.observer.verdict(stamp, *id, verdict, evidence);
-                match self.world.prisms.iter().find(|p| p.id == *id) {
-                    Some(prism) => {
-                        let prism = prism.clone();
-                        decisions.insert(*id, Decision { stamp, prism });
+                match begun.get(id) {
+                    Some(decision) => {
+                        decisions.insert(*id, decision.clone());
                     }
                     None => {
                         decisions.remove(id);

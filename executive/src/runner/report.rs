@@ -19,11 +19,11 @@ pub struct TimelineEntry {
     pub to: &'static str,
 }
 
-/// An obstacle as it stood when the robot reached its latest verdict on it: what the verdict was
-/// about, whatever pushes did to the room afterwards.
+/// What a verdict was about: the obstacle as the robot knew it when the push test that led to
+/// the verdict began (its first attempt), before the test's strokes or any later push moved things.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Decision {
-    /// Robot-clock time of the verdict (s).
+    /// Robot-clock time the test began (s).
     pub stamp: f64,
     /// The obstacle then.
     pub prism: Prism,
@@ -50,7 +50,7 @@ pub struct RunReport {
     /// The push sequences the last sequence search considered when no single push opened the way,
     /// each with what stopped it (empty when none was searched, or the last search found one).
     pub sequences: Vec<nudge_motion::PairRecord>,
-    /// Per obstacle with a verdict, the obstacle and the time of its latest verdict.
+    /// Per obstacle with a verdict, what its latest verdict was about (see [`Decision`]).
     pub decisions: std::collections::BTreeMap<ObjectId, Decision>,
 }
 
