@@ -135,17 +135,6 @@ impl WorldModel {
     }
 }
 
-/// Whether two overlapping obstacles' hull adds more floor than a strip of the surface gap along
-/// it, as [`WorldModel::merge_fragments`] asks of pieces that touch: a new look's run against an
-/// old one at a corner (a partition and the room's wall), whose hull is a triangle of floor, not
-/// two views of one run (whose hull adds slivers).
-pub(super) fn meet_at_a_corner(a: &Prism, b: &Prism) -> bool {
-    let hull = outline_of_both(a, b);
-    let overlap = nudge_perception::prism::convex_intersection_area(&a.footprint, &b.footprint);
-    let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint) + overlap;
-    added > SURFACE_GAP * extent(&hull) / 2.0
-}
-
 /// The convex hull of `a`'s and `b`'s footprints as a prism of `a`'s heights with no points: their
 /// outline together, to measure and test points against.
 fn outline_of_both(a: &Prism, b: &Prism) -> Prism {

@@ -193,8 +193,7 @@ impl WorldModel {
 
     /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a
     /// new obstacle overlapping an old one grows to cover it unless the new look saw floor where the old
-    /// part stood (one object seen in parts) or the two meet at a corner (a wall and a partition, whose
-    /// hull would be a triangle of floor), and an old obstacle no new one absorbed this way is kept
+    /// part stood (one object seen in parts), and an old obstacle no new one absorbed this way is kept
     /// unless the new look saw floor inside it (it was moved away). An old obstacle that only touches
     /// what a new one grew over (the end of a wall beside its base, seen again) is judged on its own
     /// floor, not dropped for touching it.
@@ -256,10 +255,7 @@ impl WorldModel {
                     };
                     merged = old.merged_with(&merged);
                     merged.id = id;
-                } else if !seen_floor(old, Some(&new))
-                    && !floor_between(&merged, old)
-                    && !super::fragments::meet_at_a_corner(&merged, old)
-                {
+                } else if !seen_floor(old, Some(&new)) && !floor_between(&merged, old) {
                     merged = merged.merged_with(old);
                     if self.movable.contains(&old.id) || self.moved.contains(&old.id) {
                         merged.id = old.id;
@@ -626,41 +622,6 @@ pub(super) mod tests {
         assert_eq!(untested.prisms.len(), 1);
         assert_eq!(untested.prisms[0].id, ObjectId(22));
         assert!(!untested.prisms[0].contains_xy(&Point2::new(3.3, 2.3)));
-    }
-
-    #[test]
-    fn a_new_run_meeting_an_old_one_at_a_corner_is_not_merged_into_a_triangle_of_floor() {
-        // Invariant: a new detection of the room's wall that overlaps an old detection of a
-        // partition at their corner stays a separate obstacle (their hull would be a triangle of
-        // floor between them); a new view of the same partition, overlapping it along its run,
-        // still merges into one.
-        let config = config_to(Point2::new(7.0, 2.5));
-        let robot = Point2::new(3.0, 3.5);
-        let partition = prism(3, 4.92, 3.0, 4.98, 5.0);
-        let wall = prism(40, 2.7, 4.95, 4.97, 5.0);
-        let no_floor = floor(1.0, 0.5, 1.2, 0.7);
-        let mut world = WorldModel {
-            prisms: vec![partition.clone()],
-            ..WorldModel::default()
-        };
-        world.remember(vec![wall], &no_floor, &robot, &config);
-        assert_eq!(world.prisms.len(), 2, "{:?}", world.prisms);
-        let floor_between = Point2::new(4.2, 4.2);
-        assert!(world.prisms.iter().all(|p| !p.contains_xy(&floor_between)));
-
-        let mut again = WorldModel {
-            prisms: vec![partition],
-            ..WorldModel::default()
-        };
-        again.remember(
-            vec![prism(41, 4.91, 2.9, 4.97, 4.2)],
-            &no_floor,
-            &robot,
-            &config,
-        );
-        assert_eq!(again.prisms.len(), 1, "{:?}", again.prisms);
-        assert!(again.prisms[0].contains_xy(&Point2::new(4.95, 2.95)));
-        assert!(again.prisms[0].contains_xy(&Point2::new(4.95, 4.9)));
     }
 
     #[test]
