@@ -135,6 +135,18 @@ impl WorldModel {
     }
 }
 
+/// Whether two overlapping obstacles are two runs of room structure meeting at a corner (a
+/// partition and the room's wall): their hull adds more floor than a strip of the surface gap along
+/// it, as [`WorldModel::merge_fragments`] asks of pieces that touch, and spans more than
+/// `max_extent` (wider than anything the robot would push). Two faces of one object seen from its
+/// corner (a cart) also form an L, but their hull is that object, no wider than `max_extent`.
+pub(super) fn structure_corner(a: &Prism, b: &Prism, max_extent: f64) -> bool {
+    let hull = outline_of_both(a, b);
+    let overlap = nudge_perception::prism::convex_intersection_area(&a.footprint, &b.footprint);
+    let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint) + overlap;
+    added > SURFACE_GAP * extent(&hull) / 2.0 && extent(&hull) > max_extent
+}
+
 /// The convex hull of `a`'s and `b`'s footprints as a prism of `a`'s heights with no points: their
 /// outline together, to measure and test points against.
 fn outline_of_both(a: &Prism, b: &Prism) -> Prism {

@@ -193,7 +193,8 @@ impl WorldModel {
 
     /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a
     /// new obstacle overlapping an old one grows to cover it unless the new look saw floor where the old
-    /// part stood (one object seen in parts), and an old obstacle no new one absorbed this way is kept
+    /// part stood (one object seen in parts) or the two meet at a corner (a wall and a partition, whose
+    /// hull would be a triangle of floor), and an old obstacle no new one absorbed this way is kept
     /// unless the new look saw floor inside it (it was moved away). An old obstacle that only touches
     /// what a new one grew over (the end of a wall beside its base, seen again) is judged on its own
     /// floor, not dropped for touching it.
@@ -237,10 +238,18 @@ impl WorldModel {
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
         let mut absorbed = Vec::new();
         let mut joins = Vec::new();
+        let corner = |a: &Prism, b: &Prism| {
+            super::fragments::structure_corner(a, b, config.max_candidate_extent)
+        };
         for new in detected {
             let new = self.parted_from_what_it_rests_against(new, config);
             let mut merged = new.clone();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
+                if corner(&merged, old) {
+                    // Two runs of structure at a corner (a wall and a partition), even one found
+                    // static: their hull would be a triangle of floor.
+                    continue;
+                }
                 if self.pushed.contains(&old.id) && !settled(old) {
                     // A pushed object seen again: where it is now is what the look shows, under its
                     // own id (its verdict stays with it; the look numbers its detections afresh).
@@ -622,6 +631,41 @@ pub(super) mod tests {
         assert_eq!(untested.prisms.len(), 1);
         assert_eq!(untested.prisms[0].id, ObjectId(22));
         assert!(!untested.prisms[0].contains_xy(&Point2::new(3.3, 2.3)));
+    }
+
+    #[test]
+    fn a_new_run_meeting_an_old_one_at_a_corner_is_not_merged_into_a_triangle_of_floor() {
+        // Invariant: a new detection of the room's wall that overlaps an old detection of a
+        // partition at their corner stays a separate obstacle (their hull would be a triangle of
+        // floor between them); a new view of the same partition, overlapping it along its run,
+        // still merges into one.
+        let config = config_to(Point2::new(7.0, 2.5));
+        let robot = Point2::new(3.0, 3.5);
+        let partition = prism(3, 4.92, 3.0, 4.98, 5.0);
+        let wall = prism(40, 2.7, 4.95, 4.97, 5.0);
+        let no_floor = floor(1.0, 0.5, 1.2, 0.7);
+        let mut world = WorldModel {
+            prisms: vec![partition.clone()],
+            ..WorldModel::default()
+        };
+        world.remember(vec![wall], &no_floor, &robot, &config);
+        assert_eq!(world.prisms.len(), 2, "{:?}", world.prisms);
+        let floor_between = Point2::new(4.2, 4.2);
+        assert!(world.prisms.iter().all(|p| !p.contains_xy(&floor_between)));
+
+        let mut again = WorldModel {
+            prisms: vec![partition],
+            ..WorldModel::default()
+        };
+        again.remember(
+            vec![prism(41, 4.91, 2.9, 4.97, 4.2)],
+            &no_floor,
+            &robot,
+            &config,
+        );
+        assert_eq!(again.prisms.len(), 1, "{:?}", again.prisms);
+        assert!(again.prisms[0].contains_xy(&Point2::new(4.95, 2.95)));
+        assert!(again.prisms[0].contains_xy(&Point2::new(4.95, 4.9)));
     }
 
     #[test]
