@@ -193,11 +193,11 @@ impl WorldModel {
 
     /// Replaces the obstacles with a new detection, remembering what is out of view (Tamura 3.2.3): a
     /// new obstacle overlapping an old one grows to cover it unless the new look saw floor where the old
-    /// part stood (one object seen in parts) or the two meet at a corner (a wall and a partition, whose
-    /// hull would be a triangle of floor), and an old obstacle no new one absorbed this way is kept
-    /// unless the new look saw floor inside it (it was moved away). An old obstacle that only touches
-    /// what a new one grew over (the end of a wall beside its base, seen again) is judged on its own
-    /// floor, not dropped for touching it.
+    /// part stood (one object seen in parts) or the two are runs of structure meeting at a corner (a
+    /// wall and a partition, whose hull is a triangle of floor wider than anything to push), and an
+    /// old obstacle no new one absorbed this way is kept unless the new look saw floor inside it (it
+    /// was moved away). An old obstacle that only touches what a new one grew over (the end of a wall
+    /// beside its base, seen again) is judged on its own floor, not dropped for touching it.
     ///
     /// An obstacle a push test found static stays whole, whatever floor shows: it does not move, and
     /// floor seen between a table's legs must not shrink the table to the part of its top in view. A

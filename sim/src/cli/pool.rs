@@ -188,8 +188,7 @@ pub fn run_all(
                 .unwrap_or(0)
         })
         .collect();
-    let schedule = Mutex::new(Schedule::new(&kind_of));
-    let next = &schedule;
+    let schedule = &Mutex::new(Schedule::new(&kind_of));
     let (sender, receiver) = mpsc::channel();
     std::thread::scope(|scope| {
         for _ in 0..threads.clamp(1, jobs.len().max(1)) {
@@ -197,9 +196,9 @@ pub fn run_all(
             scope.spawn(move || {
                 let Ok(pool) = one_thread_pool() else {
                     // No pool: the runs use the shared one, slower when many run, same results.
-                    return work(jobs, next, cancel, &sender);
+                    return work(jobs, schedule, cancel, &sender);
                 };
-                pool.install(|| work(jobs, next, cancel, &sender));
+                pool.install(|| work(jobs, schedule, cancel, &sender));
             });
         }
         drop(sender);

@@ -222,10 +222,8 @@ impl World {
         // Settle contacts and fill the query structures before anyone senses.
         world.physics.integration_parameters.dt = 0.0;
         world.physics.step();
-        world.pose_log = pose_log::PoseLog::new(
-            (0..world.objects.len())
-                .filter_map(|i| Some((world.objects[i].1, world.object_pose(i)?))),
-        );
+        world.pose_log =
+            pose_log::PoseLog::new((0..world.objects.len()).filter_map(|i| world.object_pose(i)));
         Ok(world)
     }
 
@@ -515,7 +513,7 @@ impl World {
     /// Notes the pose of every object the physics moved this step.
     fn log_moving_objects(&mut self, time_us: u64) {
         for body in self.physics.islands.active_bodies() {
-            if let Some(i) = self.pose_log.object_of(body)
+            if let Some(i) = self.objects.iter().position(|(_, b)| *b == body)
                 && let Some(b) = self.physics.bodies.get(body)
             {
                 self.pose_log.note(i, time_us, iso_from_pose(b.position()));

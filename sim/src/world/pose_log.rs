@@ -6,7 +6,6 @@
 //! so a run's log holds a few entries per push.
 
 use nalgebra::Isometry3;
-use rapier3d::dynamics::RigidBodyHandle;
 
 /// Travel after which an object's pose is written again (m): a fifth of the obstacle grid's 5 cm
 /// cell, well under anything scoring compares.
@@ -14,30 +13,20 @@ pub(super) const LOG_STEP: f64 = 0.01;
 
 /// Turn after which an object's pose is written again (rad): 1°, under a centimetre at the ends of
 /// a 1 m object.
-pub(super) const LOG_TURN: f64 = 0.017_453_292_519_943_295;
+pub(super) const LOG_TURN: f64 = std::f64::consts::PI / 180.0;
 
 /// Every object's poses over time, by object index.
 #[derive(Debug, Default)]
 pub(super) struct PoseLog {
     /// Per object, (time µs, pose) in time order; the first entry is the pose the run started with.
     entries: Vec<Vec<(u64, Isometry3<f64>)>>,
-    /// The body of each object, by object index.
-    bodies: Vec<RigidBodyHandle>,
 }
 
 impl PoseLog {
-    /// A log starting at time 0 with the objects `(body, pose)` in object order.
-    pub(super) fn new(start: impl IntoIterator<Item = (RigidBodyHandle, Isometry3<f64>)>) -> Self {
-        let (bodies, entries) = start
-            .into_iter()
-            .map(|(body, pose)| (body, vec![(0, pose)]))
-            .unzip();
-        Self { entries, bodies }
-    }
-
-    /// The object index of `body`, if it carries one.
-    pub(super) fn object_of(&self, body: RigidBodyHandle) -> Option<usize> {
-        self.bodies.iter().position(|b| *b == body)
+    /// A log starting at time 0 with the objects' poses in object order.
+    pub(super) fn new(start: impl IntoIterator<Item = Isometry3<f64>>) -> Self {
+        let entries = start.into_iter().map(|pose| vec![(0, pose)]).collect();
+        Self { entries }
     }
 
     /// Notes that object `i` stands at `pose` at `time_us`; written when it moved on enough.
@@ -66,18 +55,15 @@ impl PoseLog {
 mod tests {
     use super::*;
     use nalgebra::{Translation3, UnitQuaternion};
-    use rapier3d::dynamics::RigidBodyHandle;
 
     #[test]
     fn a_pose_is_found_at_any_moment_and_small_moves_are_not_written() {
         // Invariant: the log answers the pose an object had at a time (the start pose before its
         // first move); moves under a centimetre and a degree add no entry.
-        let body = RigidBodyHandle::from_raw_parts(0, 0);
         let at = |x: f64| {
             Isometry3::from_parts(Translation3::new(x, 0.0, 0.0), UnitQuaternion::identity())
         };
-        let mut log = PoseLog::new([(body, at(1.0))]);
-        assert_eq!(log.object_of(body), Some(0));
+        let mut log = PoseLog::new([at(1.0)]);
         log.note(0, 1_000, at(1.005));
         log.note(0, 2_000, at(1.5));
         log.note(0, 3_000, at(2.0));
