@@ -45,6 +45,11 @@ pub struct ExecutiveConfig {
     /// calls movable on passive evidence alone, or giving up on one that is in the way: Tamura's rule
     /// calls a person who stopped movable too, and a person usually walks on.
     pub passive_waits: u32,
+    /// Looks around (about 10 s each) in one run spent waiting for things seen moving (people,
+    /// perhaps) when nothing else in the way can be pushed: six, about a minute, since a person who
+    /// stands in the way longer than that is not about to leave; a budget like `max_views`, so a run
+    /// with people pacing about still ends.
+    pub mover_waits: u32,
     /// Viewpoints the robot may walk to in one run to look from (moving to see). Each costs a walk
     /// and a look-around (about 10 s); a budget like `max_replans`, so a run always ends.
     pub max_views: u32,
@@ -72,6 +77,7 @@ impl Default for ExecutiveConfig {
             max_jams: 2,
             max_clears_per_object: 3,
             passive_waits: 2,
+            mover_waits: 6,
             max_views: 12,
             views_per_push: 2,
             force_limit: 20.0,

@@ -15,6 +15,10 @@ pub struct Candidate {
     /// The grid saw it (or something where it stands) moving lately, in a look or a walk: it may be a
     /// person, who may walk on.
     pub moved_lately: bool,
+    /// The grid or a look saw motion where it stands at some time in the run: it came there since,
+    /// by itself or carried. Unless passive evidence or a push test calls it movable, it may be a
+    /// person who stopped (for the robot, perhaps), and is never push-tested.
+    pub seen_moving: bool,
 }
 
 /// An obstacle in the robot's way that ranking left out, and why: a partition, a long sideboard, the

@@ -567,9 +567,11 @@ fn settled(k: &Knowledge, config: &ExecutiveConfig) -> Vec<ObjectId> {
     out
 }
 
-/// Looks around again, counting a wait on `id`.
+/// Looks around again, counting a wait on `id`. What blocked a push before may have walked away
+/// meanwhile (a person standing in its sweep), so pushes ruled out are asked about afresh.
 fn wait_for(id: ObjectId, mut k: Knowledge) -> Step {
     *k.waits.entry(id).or_insert(0) += 1;
+    k.explanation.unpushable.clear();
     step(
         State::LookAround,
         k,
@@ -619,21 +621,36 @@ fn why_set_aside(s: &SetAside, k: &Knowledge) -> Option<String> {
 fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
     let exclude = settled(&k, config);
     let waited = |k: &Knowledge, id: ObjectId| k.waits.get(&id).copied().unwrap_or(0);
-    let Some(candidate) = list.iter().find(|c| !exclude.contains(&c.id)) else {
+    let tested_movable = |id: ObjectId| {
+        k.explanation
+            .verdicts
+            .get(&id)
+            .is_some_and(Verdict::is_movable)
+    };
+    // Something seen moving where it stands that passive evidence does not call movable may be a
+    // person who stopped: it is never push-tested. Anything else in the way comes first; with only
+    // such movers (or excluded obstacles that moved lately) left, the robot looks again while the
+    // run's waits for movers last: each look may see the way clear.
+    let mover = |c: &Candidate| c.seen_moving && !c.passively_movable && !tested_movable(c.id);
+    let Some(candidate) = list.iter().find(|c| !exclude.contains(&c.id) && !mover(c)) else {
+        let waits: u32 = k.waits.values().sum();
+        if let Some(m) = list
+            .iter()
+            .find(|c| mover(c))
+            .filter(|_| waits < config.mover_waits)
+        {
+            return wait_for(m.id, k);
+        }
         // Nothing left to push, but something in the way moved lately: it may walk on.
-        if let Some(mover) = list
+        if let Some(m) = list
             .iter()
             .find(|c| c.moved_lately && waited(&k, c.id) < config.passive_waits)
         {
-            return wait_for(mover.id, k);
+            return wait_for(m.id, k);
         }
         return plan_view(Question::Way, k, config, vec![], Edge::LookForWay);
     };
-    let tested_movable = k
-        .explanation
-        .verdicts
-        .get(&candidate.id)
-        .is_some_and(Verdict::is_movable);
+    let tested_movable = tested_movable(candidate.id);
     // Something that may move by itself (seen moving lately, or movable on passive evidence alone,
     // as a person who stopped is) is looked at again before it is pushed.
     let may_walk_on = candidate.moved_lately || candidate.passively_movable;

@@ -66,6 +66,7 @@ fn candidates(ids: &[ObjectId]) -> Event {
                 id,
                 passively_movable: false,
                 moved_lately: false,
+                seen_moving: false,
             })
             .collect(),
         set_aside: Vec::new(),
@@ -220,7 +221,7 @@ cases! {
     }
     a_passively_movable_candidate_is_looked_at_again_first => {
         // Invariant: an object movable on passive evidence alone (a person who stopped is too) is not pushed at once: the robot looks again, and counts the wait.
-        let e = Event::CandidatesRanked { ranked: vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }], set_aside: Vec::new() };
+        let e = Event::CandidatesRanked { ranked: vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false, seen_moving: false }], set_aside: Vec::new() };
         let s = run(State::SelectCandidate, &Knowledge::default(), e);
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
         assert_eq!(s.knowledge.waits.get(&CHAIR), Some(&1));
@@ -228,7 +229,7 @@ cases! {
     }
     nothing_left_but_a_mover_waits_for_it => {
         // Invariant: when every candidate is settled but one that moved lately (a person standing in the way), the robot looks again instead of giving up, as many times as passive_waits allows.
-        let person = Candidate { id: CHAIR, passively_movable: false, moved_lately: true };
+        let person = Candidate { id: CHAIR, passively_movable: false, moved_lately: true, seen_moving: true };
         let mut k = with_static(CHAIR);
         let s = run(State::SelectCandidate, &k, Event::CandidatesRanked { ranked: vec![person.clone()], set_aside: Vec::new() });
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
@@ -239,7 +240,7 @@ cases! {
     }
     a_known_movable_candidate_skips_the_push_test => {
         // Invariant: an object the grid saw moving, still there after the waits, is cleared without a push test.
-        let e = Event::CandidatesRanked { ranked: vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false }], set_aside: Vec::new() };
+        let e = Event::CandidatesRanked { ranked: vec![Candidate { id: CHAIR, passively_movable: true, moved_lately: false, seen_moving: false }], set_aside: Vec::new() };
         let mut k = Knowledge::default();
         k.waits.insert(CHAIR, config().passive_waits);
         let s = run(State::SelectCandidate, &k, e);

@@ -20,6 +20,7 @@ pub mod pipeline;
 pub mod prism;
 pub mod prisms;
 pub mod seen_floor;
+pub mod seen_through;
 pub mod segment;
 
 pub use cloud::{CloudError, CloudFrame, ColourCloud, Rgb};
@@ -34,4 +35,5 @@ pub use pipeline::{
 pub use prism::{ObjectId, Prism, track_ids};
 pub use prisms::{PrismConfig, build_prisms};
 pub use seen_floor::SeenFloor;
+pub use seen_through::{Change, LookChanges, SplitLook};
 pub use segment::{Cluster, Connectivity, SegmentConfig, label};

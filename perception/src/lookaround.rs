@@ -104,7 +104,7 @@ pub fn fuse(clouds: &[ColourCloud]) -> ColourCloud {
 }
 
 /// Slots of `cloud` with finite coordinates.
-fn valid_slots(cloud: &ColourCloud) -> usize {
+pub(crate) fn valid_slots(cloud: &ColourCloud) -> usize {
     let (xs, ys, zs) = (cloud.xs(), cloud.ys(), cloud.zs());
     xs.iter()
         .zip(ys)

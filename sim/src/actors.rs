@@ -18,6 +18,20 @@ use crate::world::build::groups;
 
 /// Gap between an actor and the object it pulls (m).
 const CARRY_GAP: f64 = 0.05;
+/// How close a yielding actor lets the robot's body or hand come before it stops (m, between their
+/// outlines): Hall's intimate distance (0.45 m), the space people keep from strangers and from
+/// machines they do not trust.
+pub const PERSONAL_SPACE: f64 = 0.45;
+
+/// A disc an actor keeps clear of: the robot's body or hand, seen from above.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KeepClear {
+    /// Its centre (m, map).
+    pub centre: Point2<f64>,
+    /// Its radius (m).
+    pub radius: f64,
+}
+
 /// Colour of actors as the range sensor sees them.
 const ACTOR_COLOUR: [u8; 3] = [60, 90, 160];
 
@@ -208,6 +222,10 @@ pub struct Actor {
     state: ActorState,
     moved: bool,
     carried: Option<Carried>,
+    /// Time spent standing aside for the robot (s): the plan runs this much behind the clock.
+    held: f64,
+    /// The time of the last update (s).
+    last: f64,
 }
 
 impl Actor {
@@ -288,6 +306,8 @@ impl Actor {
             state,
             moved: false,
             carried,
+            held: 0.0,
+            last: 0.0,
         };
         actor.place_carried(physics, true);
         Ok(actor)
@@ -309,8 +329,16 @@ impl Actor {
     }
 
     /// Moves the actor to where its plan puts it at time `t`, leaving or taking its object on arrival.
-    pub fn update(&mut self, t: f64, physics: &mut PhysicsWorld) {
-        let next = self.plan.state_at(t);
+    /// A yielding actor whose next step would bring it within [`PERSONAL_SPACE`] of a disc in `clear`,
+    /// and closer to it than it stands, stays where it is and takes its plan up later.
+    pub fn update(&mut self, t: f64, clear: &[KeepClear], physics: &mut PhysicsWorld) {
+        let dt = (t - self.last).max(0.0);
+        self.last = t;
+        let mut next = self.plan.state_at(t - self.held);
+        if self.spec.yields && self.would_crowd(&next.position, clear) {
+            self.held += dt;
+            next = self.state;
+        }
         self.moved = next.position != self.state.position;
         for arrival in self.state.arrivals + 1..=next.arrivals {
             let wp = self.plan.waypoint_of_arrival(arrival);
@@ -325,6 +353,15 @@ impl Actor {
             ));
         }
         self.place_carried(physics, false);
+    }
+
+    /// Whether stepping to `to` comes within personal space of a disc in `clear` while nearing it.
+    fn would_crowd(&self, to: &Point2<f64>, clear: &[KeepClear]) -> bool {
+        let from = self.state.position;
+        clear.iter().any(|d| {
+            let near = (to - d.centre).norm();
+            near < (from - d.centre).norm() && near < self.spec.radius + d.radius + PERSONAL_SPACE
+        })
     }
 
     fn on_arrival(&mut self, waypoint: usize, physics: &mut PhysicsWorld) {
@@ -384,6 +421,7 @@ mod tests {
             carries: None,
             drop_at: None,
             pick_at: None,
+            yields: true,
         }
     }
 

@@ -335,6 +335,16 @@ pub struct ActorSpec {
     /// Waypoint index where it takes the object back.
     #[serde(default)]
     pub pick_at: Option<usize>,
+    /// Whether it stops rather than walk into the robot (as people do): it waits while its next step
+    /// would bring it closer to the robot's body or hand than its personal space, and walks on when
+    /// the way is clear. Default true; false for a walker that keeps to its timetable whatever stands
+    /// in its way (a test of contact counting).
+    #[serde(default = "default_yields")]
+    pub yields: bool,
+}
+
+fn default_yields() -> bool {
+    true
 }
 
 fn default_actor_radius() -> f64 {

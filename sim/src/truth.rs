@@ -142,19 +142,36 @@ impl<'a> Truth<'a> {
                     } else {
                         spec.size[2]
                     };
-                if top <= FLAT || spec.elevation >= robot_height {
-                    return false;
-                }
-                let Some(pose) = self.world.object_pose(i) else {
-                    return false;
-                };
-                let local =
-                    pose.inverse_transform_point(&Point3::new(p.x, p.y, pose.translation.z));
-                match spec.kind {
-                    ObjectKind::Cylinder => local.x.hypot(local.y) <= spec.size[0] / 2.0,
-                    _ => local.x.abs() <= spec.size[0] / 2.0 && local.y.abs() <= spec.size[1] / 2.0,
-                }
+                top > FLAT && spec.elevation < robot_height && self.footprint_holds(i, p)
             })
+    }
+
+    /// Whether anything real stands at the map point `p` now: the room's walls (everything outside
+    /// the room), a person, or an object of any height (a mat too, a pipe overhead too). An obstacle
+    /// the executive keeps where nothing of these is, is a ghost.
+    pub fn anything_at(&self, p: Point2<f64>) -> bool {
+        let room = self.world_room();
+        !(p.x > 0.0 && p.y > 0.0 && p.x < room[0] && p.y < room[1])
+            || self
+                .world
+                .actors()
+                .iter()
+                .any(|a| (a.state().position - p).norm() <= a.spec.radius)
+            || (0..self.world.objects().len()).any(|i| self.footprint_holds(i, p))
+    }
+
+    /// Whether object `i`'s footprint (where it stands now) holds the map point `p`.
+    fn footprint_holds(&self, i: usize, p: Point2<f64>) -> bool {
+        let (Some((spec, _)), Some(pose)) =
+            (self.world.objects().get(i), self.world.object_pose(i))
+        else {
+            return false;
+        };
+        let local = pose.inverse_transform_point(&Point3::new(p.x, p.y, pose.translation.z));
+        match spec.kind {
+            ObjectKind::Cylinder => local.x.hypot(local.y) <= spec.size[0] / 2.0,
+            _ => local.x.abs() <= spec.size[0] / 2.0 && local.y.abs() <= spec.size[1] / 2.0,
+        }
     }
 
     fn world_room(&self) -> [f64; 2] {

@@ -165,6 +165,7 @@ position = [5.0, 1.8]
 name = "walker"
 waypoints = [[1.0, 1.8], [5.0, 1.8]]
 speed = 0.5
+yields = false
 "#,
     );
     let mut world = World::new(&s, 1).expect("world");

@@ -342,6 +342,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         match new_grid(&self.config.grid, start, self.config.goal) {
             Ok(grid) => {
                 self.world.last_motion = vec![f64::NAN; grid.class_codes().len()];
+                self.world.look_motion = vec![f64::NAN; grid.class_codes().len()];
                 self.world.memory = super::unseen::SeenMemory::new(grid.class_codes().len());
                 // The robot stands on its start: that floor is seen, though no camera sees under it.
                 self.world
@@ -385,6 +386,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 LogLevel::Warning,
                 &format!("a frame was left out of the obstacle-type grid: {e}"),
             );
+        } else if motion {
+            self.reconcile();
         }
     }
 
@@ -522,13 +525,37 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Whether the grid saw `prism`'s cells, or their neighbours, Moving within
-    /// [`GridSetup::mover_memory`] of now (in a look or a walk).
+    /// [`GridSetup::mover_memory`] of now (in a look or a walk), or a look saw something come or go
+    /// there.
     pub(crate) fn moved_lately(&self, prism: &Prism) -> bool {
+        // Robot time let pass, not the clock's reading (see `WorldModel::last_motion`).
+        let since = self.robot.elapsed() - self.config.grid.mover_memory;
+        self.motion_on(prism, &self.world.last_motion, since)
+    }
+
+    /// Whether `prism` may be a person by what the looks saw: a look saw it arrive (see
+    /// [`super::world::WorldModel::arrivals`]), or saw something come or go on its cells, or their
+    /// neighbours, within [`GridSetup::mover_memory`] of now (see
+    /// [`super::world::WorldModel::look_motion`]).
+    pub(crate) fn seen_moving(&self, prism: &Prism) -> bool {
+        let since = self.robot.elapsed() - self.config.grid.mover_memory;
+        self.world.arrivals.contains(&prism.id)
+            || self.motion_on(prism, &self.world.look_motion, since)
+    }
+
+    /// Whether a look saw `prism` arrive, or saw something come or go on its cells, or their
+    /// neighbours, at any time in the run.
+    pub(crate) fn seen_moving_ever(&self, prism: &Prism) -> bool {
+        self.world.arrivals.contains(&prism.id)
+            || self.motion_on(prism, &self.world.look_motion, f64::NEG_INFINITY)
+    }
+
+    /// Whether `stamps` (per cell, NaN for never) hold motion on `prism`'s cells, or their
+    /// neighbours, at `since` (robot time let pass) or later.
+    fn motion_on(&self, prism: &Prism, stamps: &[f64], since: f64) -> bool {
         let Some(grid) = self.world.grid.as_ref() else {
             return false;
         };
-        // Robot time let pass, not the clock's reading (see `WorldModel::last_motion`).
-        let since = self.robot.elapsed() - self.config.grid.mover_memory;
         let geometry = grid.geometry();
         let r = geometry.resolution();
         let Some(mut cells) = footprint_box(geometry, prism, 1.0) else {
@@ -545,7 +572,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         cells.any(|cell| {
             geometry
                 .index(cell)
-                .and_then(|i| self.world.last_motion.get(i))
+                .and_then(|i| stamps.get(i))
                 .is_some_and(|&t| t >= since)
                 && near(geometry.centre(cell))
         })

@@ -1,7 +1,7 @@
 //! Looking around and turning what was seen into obstacles.
 
 use nalgebra::{Isometry2, Isometry3, Translation3, UnitQuaternion};
-use nudge_perception::{FloorModel, detect_on_floor, fuse};
+use nudge_perception::{FloorModel, LookChanges, detect_on_floor};
 
 use super::{Interrupt, Runner};
 use crate::event::Event;
@@ -76,7 +76,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(b) => b.value,
             Err(e) => return Interrupt::Robot(e).into(),
         };
-        let fused = fuse(&self.world.views);
+        // What changed while the head turned: a person's earlier places never become obstacles.
+        let width = self.world.views.first().map_or(1, |v| v.width().max(1));
+        let pitch = self.config.view.camera.h_fov / width as f64;
+        let changes = LookChanges::new(&self.world.views, pitch);
+        let split = changes.split(&self.world.views);
+        let (fused, arrived) = self.fold_changes(split, &changes);
         self.world.see(&fused);
         // Learn the floor in front of the robot; when that patch shows no floor (facing a wall, an
         // object), keep the model learnt before.
@@ -108,8 +113,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     }
                 }
                 let here = nalgebra::Point2::from(base.translation.vector);
+                let movers = self.movers();
+                let shown: Vec<Vec<nalgebra::Point2<f64>>> = detection
+                    .prisms
+                    .iter()
+                    .map(|p| p.footprint.clone())
+                    .collect();
                 self.world
                     .remember(detection.prisms, &floor_points, &here, &self.config);
+                self.forget_movers_out_of_sight(&movers, &shown);
+                self.note_detected(&shown);
+                self.note_arrivals(&arrived);
                 let stamp = self.robot.now();
                 self.observer.prisms(stamp, &self.world.prisms);
                 Event::ObjectsDetected {

@@ -11,6 +11,7 @@ mod floor_index;
 mod fragments;
 mod grid;
 mod look;
+mod movers;
 mod navigate;
 mod outline;
 mod push;

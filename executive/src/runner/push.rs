@@ -192,6 +192,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if let Some(found) = searched {
             self.note_sequence(found);
         }
+        if let Some(why) = planned
+            .as_ref()
+            .ok()
+            .and_then(|plan| self.person_near_push(&prism, plan))
+        {
+            return Event::NoPushPlan {
+                reason: why,
+                unseen: false,
+            };
+        }
         match planned {
             Ok(plan) => {
                 let intent = PushIntent {

@@ -94,6 +94,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     id,
                     passively_movable: prism.is_some_and(|p| self.passively_movable(p)),
                     moved_lately: prism.is_some_and(|p| self.moved_lately(p)),
+                    seen_moving: prism.is_some_and(|p| self.seen_moving(p)),
                 }
             })
             .collect();
@@ -108,6 +109,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     id: p.id,
                     passively_movable: false,
                     moved_lately: true,
+                    seen_moving: true,
                 }),
         );
         Event::CandidatesRanked { ranked, set_aside }

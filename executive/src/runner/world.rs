@@ -57,6 +57,19 @@ pub(crate) struct WorldModel {
     pub looks: Vec<Point2<f64>>,
     /// How long the last look-around took (robot time, s): what the view planner weighs a look at.
     pub look_time: f64,
+    /// Per obstacle, when a look's detections last showed it, as robot time let pass
+    /// ([`super::watchdog::Watchdog::elapsed`]): an obstacle that may be a person is forgotten
+    /// [`super::config::GridSetup::mover_memory`] after it (see `movers.rs`).
+    pub last_detected: std::collections::BTreeMap<nudge_perception::ObjectId, f64>,
+    /// Per grid cell, when a look-around last saw something come or go there (a point departed or
+    /// arrived: see [`nudge_perception::seen_through`]), as robot time let pass (NaN: never). Unlike
+    /// the grid's Moving cells, which a surface coming into view as the robot walks can raise in a
+    /// room where nothing moves, this evidence is three-dimensional and silent in still rooms: what
+    /// stands on such cells may be a person, and is never push-tested.
+    pub look_motion: Vec<f64>,
+    /// Obstacles a look saw arrive (an earlier view of the look saw through where they stand): they
+    /// came while the head turned, so they move by themselves or were carried, and may be people.
+    pub arrivals: std::collections::BTreeSet<nudge_perception::ObjectId>,
     /// Where a walk was blocked before it got away (see the runner's `plan_to`).
     pub stuck_at: Option<Point2<f64>>,
     /// Objects a push test's stroke stopped on with its force leaning out of the horizontal: they

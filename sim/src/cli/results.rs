@@ -85,6 +85,10 @@ pub struct RunLine {
     /// force limit in force then (1 = at the limit); absent when the hand never pushed.
     #[serde(default)]
     pub force_share: Option<f64>,
+    /// Obstacles kept at the end where the truth has nothing; absent in lines written before ghosts
+    /// were counted.
+    #[serde(default)]
+    pub ghosts: Option<u32>,
 }
 
 impl RunLine {
@@ -127,6 +131,7 @@ impl RunLine {
             people_contacts: m.people_contacts,
             pushed_into_people: m.pushed_into_people,
             force_share: done.force_share,
+            ghosts: Some(m.ghosts),
         }
     }
 
@@ -195,6 +200,7 @@ struct Tally {
     hand_work: f64,
     people_contacts: Option<u64>,
     pushed_into_people: Option<u64>,
+    ghosts: Option<u64>,
     expect_met: u32,
     expect_runs: u32,
 }
@@ -266,6 +272,9 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         if let Some(c) = l.pushed_into_people {
             *t.pushed_into_people.get_or_insert(0) += u64::from(c);
         }
+        if let Some(g) = l.ghosts {
+            *t.ghosts.get_or_insert(0) += u64::from(g);
+        }
     }
     let width = tallies
         .keys()
@@ -274,7 +283,7 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         .unwrap_or(0)
         .max(8);
     let mut out = format!(
-        "{:<width$}  {:<8}  {:>4}  {:>7}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>7}  {:>8}\n",
+        "{:<width$}  {:<8}  {:>4}  {:>7}  {:>4}  {:>7}  {:>7}  {:>7}  {:>5}  {:>5}  {:>8}  {:>7}  {:>10}  {:>8}  {:>5}  {:>10}  {:>9}  {:>7}  {:>8}  {:>6}\n",
         match group {
             Group::Family => "family",
             Group::Scenario => "scenario",
@@ -296,7 +305,8 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
         "robot time",
         "max force",
         "F/limit",
-        "contacts"
+        "contacts",
+        "ghosts"
     );
     for ((scenario, policy), t) in &tallies {
         let runs = f64::from(t.runs.max(1));
@@ -321,8 +331,9 @@ pub fn table(lines: &[RunLine], group: Group) -> String {
             (Some(c), None) => c.to_string(),
             (Some(c), Some(p)) => format!("{c}/{p}"),
         };
+        let ghosts = t.ghosts.map_or_else(|| "-".to_string(), |g| g.to_string());
         out.push_str(&format!(
-            "{scenario:<width$}  {policy:<8}  {:>4}  {expect:>7}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {share:>7}  {contacts:>8}\n",
+            "{scenario:<width$}  {policy:<8}  {:>4}  {expect:>7}  {:>4}  {:>7}  {:>7}  {:>6.1}%  {:>5}  {:>5}  {:>10.1}  {:>7.1}  {:>10.2}  {accuracy:>8}  {mistakes:>5}  {:>8.1} s  {:>7.1} N  {share:>7}  {contacts:>8}  {ghosts:>6}\n",
             t.runs,
             t.goal,
             t.no_path,
@@ -370,6 +381,7 @@ mod tests {
             false_static: 0,
             false_movable: 0,
             people_contacts: None,
+            ghosts: None,
             pushed_into_people: None,
             force_share: Some(0.9),
         }

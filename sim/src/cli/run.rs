@@ -67,6 +67,16 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         let effort = robot.world().effort();
         (effort.people_contacts, effort.pushed_into_people)
     });
+    // Obstacles kept where the truth has nothing, with their ids.
+    let ghosts: Vec<String> = {
+        let truth = crate::truth::Truth::new(robot.world());
+        report
+            .obstacles
+            .iter()
+            .filter(|p| crate::metrics::ghosts::is_ghost(p, &truth))
+            .map(|p| p.id.to_string())
+            .collect()
+    };
     if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
         recorder.write_summary(report.robot_time, &RunSummary::of(&report));
         match recorder.finish() {
@@ -88,6 +98,15 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     if let Some((robot, pushed)) = people {
         println!(
             "people       {robot} contact(s) with the robot's body or hand, {pushed} with an object it pushed"
+        );
+    }
+    if ghosts.is_empty() {
+        println!("ghosts       none: every obstacle kept stands on something real");
+    } else {
+        println!(
+            "ghosts       {} obstacle(s) kept where nothing is: {}",
+            ghosts.len(),
+            ghosts.join(", ")
         );
     }
     Ok(match report.outcome {

@@ -185,6 +185,16 @@ impl Humanoid {
         })
     }
 
+    /// The radius of the robot's body cylinder (m).
+    pub fn radius(&self) -> f64 {
+        self.params.radius
+    }
+
+    /// The radius of the disc the hand covers seen from above (m): its box's half-diagonal.
+    pub fn hand_radius(&self) -> f64 {
+        f64::from(HAND_HALF[0]).hypot(f64::from(HAND_HALF[1]))
+    }
+
     /// Handles of the robot's rapier parts.
     pub fn parts(&self) -> &Parts {
         &self.parts

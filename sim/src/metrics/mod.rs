@@ -13,11 +13,13 @@
 //!   weight, `T` the run's time, both times success; and the **Interactive Navigation Score**
 //!   `INS = α·P_eff + (1 − α)·E_eff` with iGibson's α = 0.5.
 //! - the verdicts' mistakes against the truth: **false static** (a movable object called static)
-//!   and **false movable** (a static one called movable); and **contacts with people**.
+//!   and **false movable** (a static one called movable); **contacts with people**; and **ghosts**,
+//!   obstacles kept at the end where the truth has nothing ([`ghosts`]).
 //!
 //! Where no path exists even without the movable objects, `L*`, SPL and INS are `None`: the right
 //! answer there is `no_path`, and a path efficiency has nothing to measure.
 
+pub mod ghosts;
 pub mod ideal_path;
 
 use nalgebra::{Isometry3, Point2};
@@ -91,6 +93,8 @@ pub struct RunMetrics {
     pub people_contacts: Option<u32>,
     /// New contacts of an object the hand pushed with people, `None` in a scenario without people.
     pub pushed_into_people: Option<u32>,
+    /// Obstacles the executive kept at the end where the truth has nothing ([`ghosts::count`]).
+    pub ghosts: u32,
 }
 
 /// Measures a finished run: `start` read before it, `report` and `scored` its outcome and verdicts,
@@ -140,6 +144,7 @@ pub fn measure(start: &Start, report: &RunReport, world: &World, scored: &[Score
         false_movable,
         people_contacts: (!world.actors().is_empty()).then_some(effort.people_contacts),
         pushed_into_people: (!world.actors().is_empty()).then_some(effort.pushed_into_people),
+        ghosts: ghosts::count(&report.obstacles, &truth),
     }
 }
 

@@ -467,8 +467,18 @@ impl World {
         let h = h_us as f64 * 1.0e-6;
         let t1 = self.time_us + h_us;
         let before = self.robot_pose();
+        let clear = [
+            crate::actors::KeepClear {
+                centre: before.base,
+                radius: self.humanoid.radius(),
+            },
+            crate::actors::KeepClear {
+                centre: before.hand,
+                radius: self.humanoid.hand_radius(),
+            },
+        ];
         for actor in &mut self.actors {
-            actor.update(t1 as f64 * 1.0e-6, &mut self.physics);
+            actor.update(t1 as f64 * 1.0e-6, &clear, &mut self.physics);
         }
         self.humanoid.pre_step(h, &mut self.physics);
         let commanded = self.humanoid.moves_bodies() || self.actors.iter().any(|a| a.is_moving());

@@ -52,6 +52,7 @@ pub(super) fn wanderers(rng: &mut ChaCha8Rng) -> (Scenario, Guarantee) {
                 carries: None,
                 drop_at: None,
                 pick_at: None,
+                yields: true,
             });
         }
     }

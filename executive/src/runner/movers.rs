@@ -1,0 +1,375 @@
+//! One truth about what moves: what a look-around saw change (see
+//! [`nudge_perception::seen_through`]) goes into the run's memory of motion, and obstacles remembered
+//! from earlier looks that this look saw through are forgotten.
+//!
+//! A person walking through the views leaves points where they were (departed: a later view looked
+//! through that place) and where they are (arrived: an earlier view looked through it). The departed
+//! points never reach perception; both mark their cells as moved now, in the same per-cell memory
+//! the grid's Moving cells write ([`super::world::WorldModel::last_motion`]), so that whatever
+//! perception builds there counts as having moved lately — waited for, never push-tested (see the
+//! machine's `pick`) — and the grid's stationary cells near it are not taken for walls.
+
+use nalgebra::Point2;
+use nudge_motion::PushPlan;
+use nudge_perception::prism::convex_intersection_area;
+use nudge_perception::seen_through::FLOOR_BAND;
+use nudge_perception::{Change, ColourCloud, LookChanges, ObjectId, Prism, SplitLook};
+
+use super::Runner;
+use crate::record::{LogLevel, Observer};
+use crate::robot::Robot;
+
+/// An obstacle remembered from before is forgotten when this share of its points (above the floor)
+/// lies where the new look saw through: more than half, so that the part of an object a person
+/// stood in front of, or a few stray points, cannot remove it.
+const SEEN_THROUGH_SHARE: f64 = 0.5;
+
+/// How far a push keeps from anything that may be a person (m, between outlines): Hall's intimate
+/// distance, 0.45 m, the space people keep from strangers — within it the object, or the hand
+/// behind it, is at arm's length of them. A push test or clearing stroke whose object or sweep comes
+/// nearer a mover than this does not start.
+pub const PERSON_CLEARANCE: f64 = 0.45;
+
+/// Departed or arrived points a grid cell must hold for the look to count motion there: ten, a patch
+/// of surface a few centimetres across at the camera's range (its pixels lie about a centimetre
+/// apart at 3 m), where a person's body gives a column of a hundred or more; the edge of a table top
+/// or a chair's seat seen a pixel differently by two views gives one to three.
+const CELL_POINTS: usize = 10;
+
+/// Arrived points that make an obstacle an arrival: a few dozen, a patch of a few centimetres at a
+/// few metres' range (the camera's pixels lie about a centimetre apart there), more than the odd
+/// point a surface's edge can give.
+const ARRIVED_POINTS: usize = 30;
+
+/// How far outside a footprint an arrived point still counts as the obstacle's (m): the footprint is
+/// a hull of 4 cm elevation cells, and its own points lie up to a cell from its outline.
+const ARRIVAL_REACH: f64 = 0.05;
+
+/// Points of an obstacle asked about, at most: evenly spread, enough for its share to within a few
+/// per cent.
+const SAMPLE: usize = 400;
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    /// Folds a look's changes into the world model and returns the cloud to perceive, with the
+    /// points that arrived: departed and arrived points count only in grid cells that hold at least
+    /// [`CELL_POINTS`] of them (a body, not a stray pixel at an edge); there they are noted as motion
+    /// now, and the departed ones are left out of the cloud; elsewhere the departed go back into it.
+    /// The remembered obstacles the look saw through (neither found static by a push test, nor
+    /// pushed or found movable by the robot: those stay under their own rules) are forgotten.
+    pub(crate) fn fold_changes(
+        &mut self,
+        split: SplitLook,
+        changes: &LookChanges,
+    ) -> (ColourCloud, ColourCloud) {
+        let SplitLook {
+            fused,
+            changes: what,
+        } = split;
+        let departed = self.dense_cells(&fused, &what, Change::Departed);
+        let arrived = self.dense_cells(&fused, &what, Change::Arrived);
+        self.note_motion(&departed);
+        self.note_motion(&arrived);
+        let mut kept = ColourCloud::with_capacity(
+            fused.frame(),
+            *fused.sensor_pose(),
+            fused.stamp(),
+            fused.len(),
+        );
+        let mut came = ColourCloud::empty(fused.frame(), *fused.sensor_pose(), fused.stamp());
+        let cell_of = self.cell_index();
+        for (i, p, rgb) in fused.iter_valid() {
+            let change = what.get(i).copied().unwrap_or(Change::Stayed);
+            let dense = |cells: &std::collections::BTreeSet<usize>| {
+                cell_of(&p).is_some_and(|c| cells.contains(&c))
+            };
+            match change {
+                Change::Departed if dense(&departed) => continue,
+                Change::Arrived if dense(&arrived) => came.push(p, rgb),
+                _ => {}
+            }
+            kept.push(p, rgb);
+        }
+        drop(cell_of);
+        self.forget_seen_through(changes);
+        (kept, came)
+    }
+
+    /// Forgets the remembered obstacles whose points the look saw through (see
+    /// [`SEEN_THROUGH_SHARE`]).
+    fn forget_seen_through(&mut self, changes: &LookChanges) {
+        let prisms = std::mem::take(&mut self.world.prisms);
+        let world = &self.world;
+        let (gone, kept): (Vec<Prism>, Vec<Prism>) = prisms.into_iter().partition(|p| {
+            !world.settled.contains(&p.id)
+                && !world.movable.contains(&p.id)
+                && !world.moved.contains(&p.id)
+                && seen_through_share(p, changes) > SEEN_THROUGH_SHARE
+        });
+        self.world.prisms = kept;
+        if !gone.is_empty() {
+            let ids: Vec<String> = gone.iter().map(|p| p.id.to_string()).collect();
+            let stamp = self.robot.now();
+            self.observer.note(
+                stamp,
+                LogLevel::Info,
+                &format!(
+                    "forgotten: {} (the look saw through where they stood: they moved away)",
+                    ids.join(", ")
+                ),
+            );
+        }
+    }
+
+    /// The obstacles that may be people: motion was seen where they stand, and neither passive
+    /// evidence nor a push calls them movable or static (see the machine's `pick`).
+    pub(crate) fn movers(&self) -> Vec<ObjectId> {
+        self.untouched(|p| self.seen_moving(p) && !self.passively_movable(p))
+    }
+
+    /// The obstacles that the robot has not tested, found static or moved, and that pass `test`.
+    fn untouched(&self, test: impl Fn(&Prism) -> bool) -> Vec<ObjectId> {
+        self.world
+            .prisms
+            .iter()
+            .filter(|p| {
+                !self.world.settled.contains(&p.id)
+                    && !self.world.movable.contains(&p.id)
+                    && !self.world.moved.contains(&p.id)
+                    && test(p)
+            })
+            .map(|p| p.id)
+            .collect()
+    }
+
+    /// Forgets the obstacles among `movers` (taken before the look) that the look's detections
+    /// (`shown`, their footprints) did not find again: where a person is, is known only while they
+    /// are in view, and an obstacle kept for one out of view is a ghost the planner would go round
+    /// for the rest of the run.
+    pub(crate) fn forget_movers_out_of_sight(
+        &mut self,
+        movers: &[ObjectId],
+        shown: &[Vec<Point2<f64>>],
+    ) {
+        let before = self.world.prisms.len();
+        self.world.prisms.retain(|p| {
+            !movers.contains(&p.id)
+                || shown
+                    .iter()
+                    .any(|o| convex_intersection_area(o, &p.footprint) > 0.0)
+        });
+        if self.world.prisms.len() < before {
+            let stamp = self.robot.now();
+            self.observer.note(
+                stamp,
+                LogLevel::Info,
+                &format!(
+                    "forgotten: {} obstacle(s) seen moving that the look did not find again",
+                    before - self.world.prisms.len()
+                ),
+            );
+        }
+    }
+
+    /// Why the push of `prism` planned as `plan` must not start, if it must not: something that may
+    /// be a person ([`Self::movers`]) stands within [`PERSON_CLEARANCE`] of the object or of the
+    /// floor it sweeps (the hull of its footprint now and after the push).
+    pub(crate) fn person_near_push(&self, prism: &Prism, plan: &PushPlan) -> Option<String> {
+        let after = Prism {
+            footprint: plan.displaced_footprint.clone(),
+            ..prism.clone()
+        };
+        let sweep = prism.merged_with(&after);
+        let near: Vec<String> = self
+            .movers()
+            .into_iter()
+            .filter(|id| *id != prism.id)
+            .filter_map(|id| self.world.prisms.iter().find(|p| p.id == id))
+            .filter(|m| outline_gap(&sweep, m) < PERSON_CLEARANCE)
+            .map(|m| m.id.to_string())
+            .collect();
+        (!near.is_empty()).then(|| {
+            format!(
+                "{} may be a person (seen moving) within {PERSON_CLEARANCE:.2} m of {}'s sweep: the push waits for them to leave",
+                near.join(", "),
+                prism.id
+            )
+        })
+    }
+
+    /// Notes the obstacles that hold at least [`ARRIVED_POINTS`] of the look's `arrived` points as
+    /// arrivals (see [`super::world::WorldModel::arrivals`]).
+    pub(crate) fn note_arrivals(&mut self, arrived: &ColourCloud) {
+        if arrived.is_empty() {
+            return;
+        }
+        let points: Vec<Point2<f64>> = arrived
+            .iter_valid()
+            .filter(|(_, p, _)| p.z >= FLOOR_BAND)
+            .map(|(_, p, _)| Point2::new(f64::from(p.x), f64::from(p.y)))
+            .collect();
+        for prism in &self.world.prisms {
+            let inside = points
+                .iter()
+                .filter(|q| prism.distance_xy(q) <= ARRIVAL_REACH)
+                .take(ARRIVED_POINTS)
+                .count();
+            if inside >= ARRIVED_POINTS {
+                self.world.arrivals.insert(prism.id);
+            }
+        }
+    }
+
+    /// Notes that the look's detections (`shown`, their footprints) showed the obstacles they overlap
+    /// now.
+    pub(crate) fn note_detected(&mut self, shown: &[Vec<Point2<f64>>]) {
+        let now = self.robot.elapsed();
+        for p in &self.world.prisms {
+            if shown
+                .iter()
+                .any(|o| convex_intersection_area(o, &p.footprint) > 0.0)
+            {
+                self.world.last_detected.insert(p.id, now);
+            }
+        }
+    }
+
+    /// Keeps the obstacle memory in step with the grid between looks, after every frame of a look or
+    /// a walk: an obstacle seen moving that the robot has not tested or moved (a person, or a person
+    /// who stopped, to passive evidence the same as a suitcase left behind) is forgotten once no look
+    /// has shown it for [`super::config::GridSetup::mover_memory`] — where people are is known only
+    /// while they are in view, and the grid's moving and movable cells still hold what it last saw
+    /// there for the planner; any obstacle nobody tested, moved or
+    /// found static, taller than the height below which the grid's free cells prove nothing, is
+    /// forgotten as soon as the grid holds every cell under it free (a later frame saw floor all
+    /// over where it stood).
+    pub(crate) fn reconcile(&mut self) {
+        let now = self.robot.elapsed();
+        let memory = self.config.grid.mover_memory;
+        let proves_free_above = self.config.grid.reduction.clear_height;
+        let movers = self.untouched(|p| self.seen_moving_ever(p));
+        let stale = |id: &ObjectId| {
+            movers.contains(id)
+                && self
+                    .world
+                    .last_detected
+                    .get(id)
+                    .is_none_or(|t| now - t > memory)
+        };
+        let untouched = |p: &Prism| {
+            !self.world.settled.contains(&p.id)
+                && !self.world.movable.contains(&p.id)
+                && !self.world.moved.contains(&p.id)
+        };
+        let gone: Vec<ObjectId> = self
+            .world
+            .prisms
+            .iter()
+            .filter(|p| {
+                stale(&p.id)
+                    || (untouched(p) && p.z_max > proves_free_above && self.world.grid_sees_free(p))
+            })
+            .map(|p| p.id)
+            .collect();
+        if gone.is_empty() {
+            return;
+        }
+        self.world.prisms.retain(|p| !gone.contains(&p.id));
+        let ids: Vec<String> = gone.iter().map(ToString::to_string).collect();
+        let stamp = self.robot.now();
+        self.observer.note(
+            stamp,
+            LogLevel::Info,
+            &format!(
+                "forgotten: {} (seen moving and out of sight too long, or the grid sees floor all over where they stood)",
+                ids.join(", ")
+            ),
+        );
+    }
+
+    /// The grid cell index of a map point above the floor band, if the grid holds it; never for a run
+    /// without a grid.
+    fn cell_index(&self) -> impl Fn(&nalgebra::Point3<f32>) -> Option<usize> + '_ {
+        let geometry = self.world.grid.as_ref().map(|g| *g.geometry());
+        move |p| {
+            let geometry = geometry.as_ref()?;
+            if p.z < FLOOR_BAND {
+                return None;
+            }
+            geometry
+                .cell_of(Point2::new(f64::from(p.x), f64::from(p.y)))
+                .and_then(|c| geometry.index(c))
+        }
+    }
+
+    /// The grid cells holding at least [`CELL_POINTS`] of `fused`'s points that `what` marks as
+    /// `change`.
+    fn dense_cells(
+        &self,
+        fused: &ColourCloud,
+        what: &[Change],
+        change: Change,
+    ) -> std::collections::BTreeSet<usize> {
+        let cell_of = self.cell_index();
+        let mut counts: std::collections::BTreeMap<usize, usize> = Default::default();
+        for (i, p, _) in fused.iter_valid() {
+            if what.get(i) == Some(&change)
+                && let Some(c) = cell_of(&p)
+            {
+                *counts.entry(c).or_default() += 1;
+            }
+        }
+        counts
+            .into_iter()
+            .filter(|(_, n)| *n >= CELL_POINTS)
+            .map(|(c, _)| c)
+            .collect()
+    }
+
+    /// Marks `cells` as moved at the current robot time, in the look's own memory of motion and in
+    /// the one the grid's Moving cells write.
+    fn note_motion(&mut self, cells: &std::collections::BTreeSet<usize>) {
+        let now = self.robot.elapsed();
+        for &i in cells {
+            for stamps in [&mut self.world.look_motion, &mut self.world.last_motion] {
+                if let Some(slot) = stamps.get_mut(i) {
+                    *slot = now;
+                }
+            }
+        }
+    }
+}
+
+/// The gap between two footprints in the floor plane (m): zero where they overlap.
+fn outline_gap(a: &Prism, b: &Prism) -> f64 {
+    if convex_intersection_area(&a.footprint, &b.footprint) > 0.0 {
+        return 0.0;
+    }
+    let one_way = |from: &Prism, to: &Prism| {
+        from.footprint
+            .iter()
+            .map(|v| to.distance_xy(v))
+            .fold(f64::INFINITY, f64::min)
+    };
+    one_way(a, b).min(one_way(b, a))
+}
+
+/// The share of `prism`'s points above the floor (an even sample) that the look saw through; 0 for
+/// a prism without such points.
+fn seen_through_share(prism: &Prism, changes: &LookChanges) -> f64 {
+    let points = &prism.points;
+    let above: Vec<usize> = (0..points.len())
+        .filter(|&i| points.point(i).is_some_and(|p| p.z >= FLOOR_BAND))
+        .collect();
+    if above.is_empty() {
+        return 0.0;
+    }
+    let step = above.len().div_ceil(SAMPLE);
+    let (mut asked, mut through) = (0usize, 0usize);
+    for &i in above.iter().step_by(step) {
+        if let Some(p) = points.point(i) {
+            asked += 1;
+            through += usize::from(changes.any_looked_through(&p));
+        }
+    }
+    through as f64 / asked.max(1) as f64
+}
