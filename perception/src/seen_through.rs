@@ -38,6 +38,7 @@ pub const SEEN_THROUGH_MARGIN: f64 = 0.1;
 pub const FLOOR_BAND: f32 = 0.05;
 
 /// A view as an angular range image in its sensor frame.
+#[derive(Clone, Debug)]
 struct RangeImage {
     /// Map → sensor.
     to_sensor: Isometry3<f32>,
@@ -138,6 +139,7 @@ fn polar(p: &Point3<f32>) -> (f32, f32, f32) {
 }
 
 /// A look's views, each as a range image, for asking which views looked through a place.
+#[derive(Clone, Debug)]
 pub struct LookChanges {
     images: Vec<Option<RangeImage>>,
 }
@@ -185,8 +187,10 @@ impl LookChanges {
     }
 
     /// Fuses `views` (the clouds these images were made from, in the same order) as
-    /// [`crate::fuse`] does and says what changed at each point. Points below [`FLOOR_BAND`] stay.
-    pub fn split(&self, views: &[ColourCloud]) -> SplitLook {
+    /// [`crate::fuse`] does and says what changed at each point; with `before`, the views of the look
+    /// before count as earlier views too (what came since then has arrived). Points below
+    /// [`FLOOR_BAND`] stay.
+    pub fn split(&self, views: &[ColourCloud], before: Option<&LookChanges>) -> SplitLook {
         let margin = SEEN_THROUGH_MARGIN as f32;
         let fused = crate::fuse(views);
         let mut changes = vec![Change::Stayed; fused.len()];
@@ -215,9 +219,17 @@ impl LookChanges {
                         .and_then(Option::as_ref)
                         .is_some_and(|image| image.looked_through(&p, margin))
                 };
+                let seen_before = || {
+                    before.is_some_and(|b| {
+                        b.images
+                            .iter()
+                            .flatten()
+                            .any(|image| image.looked_through(&p, margin))
+                    })
+                };
                 if (k + 1..self.images.len()).any(by) {
                     *change = Change::Departed;
-                } else if (0..k).any(by) {
+                } else if (0..k).any(by) || seen_before() {
                     *change = Change::Arrived;
                 }
             }

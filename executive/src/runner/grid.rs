@@ -343,6 +343,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(grid) => {
                 self.world.last_motion = vec![f64::NAN; grid.class_codes().len()];
                 self.world.look_motion = vec![f64::NAN; grid.class_codes().len()];
+                self.world.fresh_motion = vec![f64::NAN; grid.class_codes().len()];
                 self.world.memory = super::unseen::SeenMemory::new(grid.class_codes().len());
                 // The robot stands on its start: that floor is seen, though no camera sees under it.
                 self.world
@@ -369,13 +370,24 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if tilt > self.config.grid.max_tilt {
             return;
         }
+        let moving = CellClass::Moving as u8;
+        // Which cells were Moving before the frame: those it turns Moving are motion seen now.
+        let before: Vec<bool> = grid.class_codes().iter().map(|&c| c == moving).collect();
         let result = RangeFrame::from_cloud(cloud, &self.config.grid.reduction)
             .and_then(|frame| grid.update(&frame, cloud.stamp()));
         if result.is_ok() && motion {
-            let moving = CellClass::Moving as u8;
             let now = self.robot.elapsed();
-            for (stamp, &code) in self.world.last_motion.iter_mut().zip(grid.class_codes()) {
-                if code == moving {
+            let (last, fresh) = (&mut self.world.last_motion, &mut self.world.fresh_motion);
+            for (i, &code) in grid.class_codes().iter().enumerate() {
+                if code != moving {
+                    continue;
+                }
+                if let Some(stamp) = last.get_mut(i) {
+                    *stamp = now;
+                }
+                if !before.get(i).copied().unwrap_or(true)
+                    && let Some(stamp) = fresh.get_mut(i)
+                {
                     *stamp = now;
                 }
             }

@@ -16,6 +16,7 @@ mod navigate;
 mod outline;
 mod push;
 mod rank;
+mod search_space;
 mod report;
 mod unseen;
 mod view;

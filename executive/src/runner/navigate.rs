@@ -185,7 +185,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Err(i) => return i.into(),
         };
         let rest = super::unseen::rest_of_path(path.waypoints(), here);
-        match self.walk_watching(&rest, stop_at_unseen) {
+        match self.walk_watching(&rest, stop_at_unseen, true) {
             Ok(Watched::Replan(reason)) => Event::PathInvalidated { reason },
             Ok(Watched::Unseen(distance)) => Event::UnseenAhead { distance },
             Ok(Watched::Walked(WalkOutcome::Arrived)) => match self.position() {
@@ -218,6 +218,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         &mut self,
         waypoints: &[Point2<f64>],
         stop_at_unseen: bool,
+        heed_flags: bool,
     ) -> Result<Watched, Interrupt> {
         let rest = waypoints.get(1..).unwrap_or_default();
         if rest.is_empty() {
@@ -240,11 +241,59 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.observer.cloud(&cloud);
                 self.sense(&cloud, true);
                 self.publish_grid();
-                if let Some(reason) = self.replan_reason() {
+                // Miyazaki's search space: someone moving in the way ahead stops the walk until
+                // they have passed (see `search_space.rs`).
+                if self.people_about() {
+                    let here = self.position()?;
+                    let ahead = super::unseen::rest_of_path(waypoints, here);
+                    if self.search_space_occupied(&ahead) {
+                        if !self.wait_for_clear_way(waypoints)? {
+                            return Ok(Watched::Replan(format!(
+                                "someone moving stood in the way ahead for {:.0} s",
+                                super::search_space::PERSON_WAIT
+                            )));
+                        }
+                        let here = self.position()?;
+                        let rest = super::unseen::rest_of_path(waypoints, here);
+                        if rest.len() < 2 {
+                            return Ok(Watched::Walked(WalkOutcome::Arrived));
+                        }
+                        self.robot.start_walk(&rest[1..])?;
+                        next_frame = self.robot.now() + self.config.grid.watch_period;
+                    }
+                }
+                if heed_flags && let Some(reason) = self.replan_reason() {
                     return Ok(Watched::Replan(reason));
                 }
                 if stop_at_unseen && let Some(stop) = self.check_unseen_ahead(waypoints)? {
                     return Ok(stop);
+                }
+            }
+            self.tick()?;
+        }
+    }
+
+    /// Stops the walk along `waypoints` and waits, taking a frame into the grid every watch period,
+    /// until the search space ahead is clear (true) or [`super::search_space::PERSON_WAIT`] has
+    /// passed (false).
+    fn wait_for_clear_way(&mut self, waypoints: &[Point2<f64>]) -> Result<bool, Interrupt> {
+        self.robot.stop_walk()?;
+        self.wait(|r| r.walk_status())?;
+        let started = self.robot.now();
+        let mut next_frame = started + self.config.grid.watch_period;
+        loop {
+            if self.robot.now() >= next_frame {
+                next_frame += self.config.grid.watch_period;
+                let cloud = self.robot.capture()?;
+                self.observer.cloud(&cloud);
+                self.sense(&cloud, true);
+                let here = self.position()?;
+                let ahead = super::unseen::rest_of_path(waypoints, here);
+                if !self.search_space_occupied(&ahead) {
+                    return Ok(true);
+                }
+                if self.robot.now() - started >= super::search_space::PERSON_WAIT {
+                    return Ok(false);
                 }
             }
             self.tick()?;
@@ -414,6 +463,21 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         Ok(outcome)
     }
 
+    /// Walks `waypoints` as [`Self::walk`] does, but watching the way (frames into the grid, the
+    /// search space ahead): with people about, a walk to a push pose or a viewpoint is no longer one
+    /// the last look showed clear. A flagged path ends it stopped.
+    fn walk_among_people(&mut self, waypoints: &[Point2<f64>]) -> Result<WalkOutcome, Interrupt> {
+        // The grid watches the path to the goal, not this one: only the search space stops it.
+        match self.walk_watching(waypoints, false, false)? {
+            Watched::Walked(outcome) => Ok(outcome),
+            Watched::Replan(_) | Watched::Unseen(_) => {
+                self.robot.stop_walk()?;
+                self.wait(|r| r.walk_status())?;
+                Ok(WalkOutcome::Stopped)
+            }
+        }
+    }
+
     /// Remembers where a walk that ended blocked before it got away stopped (see [`Self::plan_to`]);
     /// any other end of a walk forgets it.
     fn note_stuck(&mut self, from: Point2<f64>, outcome: &WalkOutcome) -> Result<(), Interrupt> {
@@ -457,7 +521,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         };
         let stamp = self.robot.now();
         self.observer.path(stamp, path.waypoints());
-        let walked = self.walk(path.waypoints());
+        let walked = if self.people_about() {
+            self.walk_among_people(path.waypoints())
+        } else {
+            self.walk(path.waypoints())
+        };
         let outcome = match walked {
             Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),
             other => other,
@@ -482,7 +550,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let stamp = self.robot.now();
         self.observer.path(stamp, path.waypoints());
         self.watch_path(path.waypoints());
-        let outcome = match self.walk_watching(path.waypoints(), false) {
+        let outcome = match self.walk_watching(path.waypoints(), false, true) {
             Ok(Watched::Walked(WalkOutcome::Arrived)) => self.turn_to(view.yaw),
             Ok(Watched::Replan(reason)) => return Event::PathInvalidated { reason },
             Ok(Watched::Unseen(_)) => Ok(WalkOutcome::Arrived),

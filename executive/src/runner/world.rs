@@ -67,9 +67,16 @@ pub(crate) struct WorldModel {
     /// room where nothing moves, this evidence is three-dimensional and silent in still rooms: what
     /// stands on such cells may be a person, and is never push-tested.
     pub look_motion: Vec<f64>,
+    /// Per grid cell, when a frame last turned it Moving, as robot time let pass (NaN: never): motion
+    /// seen at that moment, where [`Self::last_motion`] is renewed every frame a cell stays Moving
+    /// (the grid keeps a cell a person walked through Moving until a ray crosses it again).
+    pub fresh_motion: Vec<f64>,
     /// Obstacles a look saw arrive (an earlier view of the look saw through where they stand): they
     /// came while the head turned, so they move by themselves or were carried, and may be people.
     pub arrivals: std::collections::BTreeSet<nudge_perception::ObjectId>,
+    /// The range images of the last look-around: what the next look returns where one of them looked
+    /// through came since.
+    pub last_look: Option<nudge_perception::LookChanges>,
     /// Where a walk was blocked before it got away (see the runner's `plan_to`).
     pub stuck_at: Option<Point2<f64>>,
     /// Objects a push test's stroke stopped on with its force leaning out of the horizontal: they
