@@ -33,6 +33,11 @@ const BIN_PIXELS: f64 = 2.0;
 /// A person is 0.3–0.5 m thick and stands well in front of what is behind them.
 pub const SEEN_THROUGH_MARGIN: f64 = 0.1;
 
+/// Every how many points of a view a sample asks whether an image can hold them at all (see
+/// [`LookChanges::split`]): a 176 × 144 image's points sampled every 37th land a few pixels apart
+/// along its rows and a fifth of an image apart down it.
+const OVERLAP_SAMPLE: usize = 37;
+
 /// Points lower than this are not asked about (m): the floor, which every view returns at its own
 /// range along its own rays.
 pub const FLOOR_BAND: f32 = 0.05;
@@ -98,6 +103,36 @@ impl RangeImage {
         Some(image)
     }
 
+    /// A cheap test before the trigonometry: false only for sensor-frame points whose direction lies
+    /// outside the image's azimuths and elevations (with a bin's slack), most points of the other
+    /// views of a look.
+    fn may_hold(&self, q: &Point3<f32>) -> bool {
+        let slack = self.bin;
+        let (lo, hi) = (
+            self.az0 - slack,
+            self.az0 + (self.cols as f32 + 1.0) * self.bin,
+        );
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        // Azimuth by the tangent where the image lies in front of the sensor (it always does for
+        // a camera narrower than a half turn); otherwise ask the trigonometry.
+        if lo > -half_pi && hi < half_pi {
+            if q.x <= 0.0 || q.y < q.x * lo.tan() || q.y > q.x * hi.tan() {
+                return false;
+            }
+        }
+        let (el_lo, el_hi) = (
+            self.el0 - slack,
+            self.el0 + (self.rows as f32 + 1.0) * self.bin,
+        );
+        if el_lo > -half_pi && el_hi < half_pi {
+            let h = q.x.hypot(q.y);
+            if q.z < h * el_lo.tan() || q.z > h * el_hi.tan() {
+                return false;
+            }
+        }
+        true
+    }
+
     fn cell(&self, az: f32, el: f32) -> Option<(usize, usize)> {
         let c = ((az - self.az0) / self.bin).floor();
         let r = ((el - self.el0) / self.bin).floor();
@@ -113,7 +148,11 @@ impl RangeImage {
     /// returned only from more than `margin` beyond it. A point outside the image, or in a bin
     /// without returns, was not seen through.
     fn looked_through(&self, p: &Point3<f32>, margin: f32) -> bool {
-        let (az, el, r) = polar(&(self.to_sensor * p));
+        let q = self.to_sensor * p;
+        if !self.may_hold(&q) {
+            return false;
+        }
+        let (az, el, r) = polar(&q);
         let Some((c, row)) = self.cell(az, el) else {
             return false;
         };
@@ -206,30 +245,41 @@ impl LookChanges {
             rest = tail;
         }
         let (xs, ys, zs) = (fused.xs(), fused.ys(), fused.zs());
+        let earlier: Vec<&RangeImage> = before
+            .map(|b| b.images.iter().flatten().collect())
+            .unwrap_or_default();
         jobs.into_par_iter().for_each(|(k, start, mine)| {
-            for (offset, change) in mine.iter_mut().enumerate() {
+            let point = |offset: usize| {
                 let i = start + offset;
-                let p = Point3::new(xs[i], ys[i], zs[i]);
+                Point3::new(xs[i], ys[i], zs[i])
+            };
+            // The images this view's points can fall in: those a sparse sample of them does. Two
+            // views of a look overlap over tens of pixels or not at all, far more than the sample's
+            // spacing, so a view's points are asked only of the few images beside it.
+            let overlapping = |image: &&RangeImage| {
+                (0..mine.len())
+                    .step_by(OVERLAP_SAMPLE)
+                    .any(|o| image.may_hold(&(image.to_sensor * point(o))))
+            };
+            let later: Vec<&RangeImage> = self.images[(k + 1).min(self.images.len())..]
+                .iter()
+                .flatten()
+                .filter(overlapping)
+                .collect();
+            let sooner: Vec<&RangeImage> = self.images[..k.min(self.images.len())]
+                .iter()
+                .flatten()
+                .chain(earlier.iter().copied())
+                .filter(overlapping)
+                .collect();
+            for (offset, change) in mine.iter_mut().enumerate() {
+                let p = point(offset);
                 if p.z < FLOOR_BAND {
                     continue;
                 }
-                let by = |j: usize| {
-                    self.images
-                        .get(j)
-                        .and_then(Option::as_ref)
-                        .is_some_and(|image| image.looked_through(&p, margin))
-                };
-                let seen_before = || {
-                    before.is_some_and(|b| {
-                        b.images
-                            .iter()
-                            .flatten()
-                            .any(|image| image.looked_through(&p, margin))
-                    })
-                };
-                if (k + 1..self.images.len()).any(by) {
+                if later.iter().any(|image| image.looked_through(&p, margin)) {
                     *change = Change::Departed;
-                } else if (0..k).any(by) || seen_before() {
+                } else if sooner.iter().any(|image| image.looked_through(&p, margin)) {
                     *change = Change::Arrived;
                 }
             }

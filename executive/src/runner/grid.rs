@@ -430,10 +430,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
-    /// Why the walk should stop and replan, if a watched cell turned into an obstacle.
+    /// Why the walk should stop and replan, if a watched cell turned into an obstacle. With people
+    /// about, a cell that turned Moving does not: someone crossing the path farther on is the search
+    /// space's business when the robot gets there (see `search_space.rs`), and a path planned anew
+    /// for every passer-by would never be walked.
     pub(crate) fn replan_reason(&mut self) -> Option<String> {
+        let people = self.people_about();
         let grid = self.world.grid.as_mut()?;
         let flag = grid.take_replan_flag()?;
+        if people && flag.became == CellClass::Moving {
+            return None;
+        }
         let at = grid.geometry().centre(flag.cell);
         Some(format!(
             "the obstacle-type grid saw {} cell(s) on the path turn {:?} (first at ({:.2}, {:.2}), was {:?})",

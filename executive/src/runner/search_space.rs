@@ -144,7 +144,10 @@ mod tests {
         // Straight east from (1, 2.5), 3 m long.
         let path = [Point2::new(1.0, 2.5), Point2::new(4.0, 2.5)];
         let cells = search_cells(&path, 1.0, 0.45, size, cell_of);
-        assert!(cells.contains(&centre(1.02, 2.52)), "where the robot stands");
+        assert!(
+            cells.contains(&centre(1.02, 2.52)),
+            "where the robot stands"
+        );
         assert!(cells.contains(&centre(1.98, 2.52)), "a metre ahead");
         assert!(cells.contains(&centre(1.5, 2.9)), "0.4 m to the side");
         assert!(!cells.contains(&centre(2.2, 2.52)), "beyond the metre");
@@ -156,8 +159,17 @@ mod tests {
             Point2::new(1.5, 4.0),
         ];
         let cells = search_cells(&corner, 1.0, 0.2, size, cell_of);
-        assert!(cells.contains(&centre(1.52, 2.98)), "half a metre up the second leg");
-        assert!(!cells.contains(&centre(1.52, 3.2)), "beyond the metre along the bend");
-        assert!(!cells.contains(&centre(1.9, 2.52)), "straight on past the corner");
+        assert!(
+            cells.contains(&centre(1.52, 2.98)),
+            "half a metre up the second leg"
+        );
+        assert!(
+            !cells.contains(&centre(1.52, 3.2)),
+            "beyond the metre along the bend"
+        );
+        assert!(
+            !cells.contains(&centre(1.9, 2.52)),
+            "straight on past the corner"
+        );
     }
 }
