@@ -228,15 +228,35 @@ cases! {
         s.edge
     }
     nothing_left_but_a_mover_waits_for_it => {
-        // Invariant: when every candidate is settled but one that moved lately (a person standing in the way), the robot looks again instead of giving up, as many times as passive_waits allows.
+        // Invariant: when every candidate is settled but one a look saw moving (a person standing in the way), the robot looks again instead of giving up, as many times in the run as mover_waits allows, then asks where to look for a way.
         let person = Candidate { id: CHAIR, passively_movable: false, moved_lately: true, seen_moving: true };
         let mut k = with_static(CHAIR);
         let s = run(State::SelectCandidate, &k, Event::CandidatesRanked { ranked: vec![person.clone()], set_aside: Vec::new() });
         assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
-        k.waits.insert(CHAIR, config().passive_waits);
+        k.waits.insert(CHAIR, config().mover_waits);
         let s2 = run(State::SelectCandidate, &k, Event::CandidatesRanked { ranked: vec![person], set_aside: Vec::new() });
         assert_eq!(s2.state, State::PlanView { question: Question::Way });
         s.edge
+    }
+    a_mover_is_never_push_tested => {
+        // Invariant: an obstacle a look saw moving, that neither passive evidence nor a push calls movable, is never approached for a push test: another candidate comes first, and with none the robot waits for it (within mover_waits) or asks where to look, whatever its rank and however often it was waited for; waiting forgets the pushes ruled out, which the person may have blocked.
+        let person = Candidate { id: CHAIR, passively_movable: false, moved_lately: false, seen_moving: true };
+        let table = Candidate { id: TABLE, passively_movable: false, moved_lately: false, seen_moving: false };
+        let ranked = |c: Vec<Candidate>| Event::CandidatesRanked { ranked: c, set_aside: Vec::new() };
+        let s = run(State::SelectCandidate, &Knowledge::default(), ranked(vec![person.clone(), table]));
+        assert_eq!(s.state, approach(TABLE, Purpose::Test, Approach::Planning));
+        let mut k = Knowledge::default();
+        k.explanation.unpushable.insert(TABLE, "a person in its sweep".into());
+        let s2 = run(State::SelectCandidate, &k, ranked(vec![person.clone()]));
+        assert_eq!((s2.state, s2.commands), (State::LookAround, vec![Command::LookAround]));
+        assert!(s2.knowledge.explanation.unpushable.is_empty());
+        for waits in [config().passive_waits, config().mover_waits, 100] {
+            let mut k = Knowledge::default();
+            k.waits.insert(CHAIR, waits);
+            let s3 = run(State::SelectCandidate, &k, ranked(vec![person.clone()]));
+            assert!(!matches!(s3.state, State::ApproachPushPose { .. }), "{waits} waits: {:?}", s3.state);
+        }
+        s2.edge
     }
     a_known_movable_candidate_skips_the_push_test => {
         // Invariant: an object the grid saw moving, still there after the waits, is cleared without a push test.

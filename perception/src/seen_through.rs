@@ -74,7 +74,7 @@ impl RangeImage {
             .map(|(_, p, _)| polar(&in_sensor(p)))
             .filter(|(_, _, r)| *r > 0.0)
             .collect();
-        if polar.is_empty() || !(bin > 0.0) {
+        if polar.is_empty() || bin.is_nan() || bin <= 0.0 {
             return None;
         }
         let (mut az_lo, mut az_hi, mut el_lo, mut el_hi) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
@@ -115,10 +115,11 @@ impl RangeImage {
         let half_pi = std::f32::consts::FRAC_PI_2;
         // Azimuth by the tangent where the image lies in front of the sensor (it always does for
         // a camera narrower than a half turn); otherwise ask the trigonometry.
-        if lo > -half_pi && hi < half_pi {
-            if q.x <= 0.0 || q.y < q.x * lo.tan() || q.y > q.x * hi.tan() {
-                return false;
-            }
+        if lo > -half_pi
+            && hi < half_pi
+            && (q.x <= 0.0 || q.y < q.x * lo.tan() || q.y > q.x * hi.tan())
+        {
+            return false;
         }
         let (el_lo, el_hi) = (
             self.el0 - slack,
@@ -285,5 +286,140 @@ impl LookChanges {
             }
         });
         SplitLook { fused, changes }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Translation3, UnitQuaternion, Vector3};
+
+    /// Pixel pitch of the synthetic camera (rad): 40° over 160 pixels.
+    const PITCH: f64 = 0.25 * std::f64::consts::PI / 180.0;
+
+    /// A person: a 0.4 m square column 1.7 m tall centred at `(x, y)`.
+    #[derive(Clone, Copy)]
+    struct Column(f64, f64);
+
+    /// The distance along the ray from `o` in direction `d` to the column, if it hits.
+    fn hit_column(o: &Point3<f64>, d: &Vector3<f64>, c: Column) -> Option<f64> {
+        let lo = Vector3::new(c.0 - 0.2, c.1 - 0.2, 0.0);
+        let hi = Vector3::new(c.0 + 0.2, c.1 + 0.2, 1.7);
+        let (mut near, mut far) = (0.0f64, f64::INFINITY);
+        for a in 0..3 {
+            if d[a].abs() < 1e-12 {
+                if o[a] < lo[a] || o[a] > hi[a] {
+                    return None;
+                }
+                continue;
+            }
+            let (t1, t2) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
+            near = near.max(t1.min(t2));
+            far = far.min(t1.max(t2));
+        }
+        (near <= far).then_some(near)
+    }
+
+    /// One view from (0, 0, 1.4) panned `yaw` rad, looking 10° down at a wall at x = 4 and the floor,
+    /// with `people` standing in front of the wall; map-frame points, organised 160 × 120.
+    fn view(yaw: f64, people: &[Column], stamp: f64) -> ColourCloud {
+        let origin = Point3::new(0.0, 0.0, 1.4);
+        let rotation = UnitQuaternion::from_euler_angles(0.0, 10f64.to_radians(), yaw);
+        let pose = Isometry3::from_parts(Translation3::from(origin.coords), rotation);
+        let (w, h) = (160usize, 120usize);
+        let (mut x, mut y, mut z) = (Vec::new(), Vec::new(), Vec::new());
+        for v in 0..h {
+            for u in 0..w {
+                let az = (w as f64 / 2.0 - u as f64) * PITCH;
+                let el = (h as f64 / 2.0 - v as f64) * PITCH;
+                let local = Vector3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin());
+                let d = rotation * local;
+                let wall = if d.x > 1e-9 {
+                    (4.0 - origin.x) / d.x
+                } else {
+                    f64::INFINITY
+                };
+                let floor = if d.z < -1e-9 {
+                    -origin.z / d.z
+                } else {
+                    f64::INFINITY
+                };
+                let mut t = wall.min(floor);
+                for c in people {
+                    if let Some(s) = hit_column(&origin, &d, *c) {
+                        t = t.min(s);
+                    }
+                }
+                let p = origin + d * t;
+                x.push(p.x as f32);
+                y.push(p.y as f32);
+                z.push(p.z as f32);
+            }
+        }
+        let rgb = vec![[128, 128, 128]; w * h];
+        ColourCloud::organised(w, h, x, y, z, rgb, CloudFrame::Map, pose, stamp)
+            .expect("a consistent cloud")
+    }
+
+    /// The changes of the points within 0.3 m of `(x, y)` above the floor band.
+    fn changes_near(split: &SplitLook, x: f32, y: f32) -> Vec<Change> {
+        split
+            .fused
+            .iter_valid()
+            .filter(|(_, p, _)| p.z >= FLOOR_BAND && (p.x - x).hypot(p.y - y) < 0.3)
+            .map(|(i, _, _)| split.changes[i])
+            .collect()
+    }
+
+    #[test]
+    fn a_walker_seen_in_two_places_departed_from_the_first_and_arrived_at_the_second() {
+        // Invariant: a person standing at A in the first view and at B in the second (overlapping) view, with the wall behind both places seen in the other view, is Departed at A and Arrived at B; the wall and a person standing still in both views are Stayed.
+        let (a, b, still) = (Column(3.0, 0.3), Column(3.0, -0.3), Column(2.5, 0.9));
+        let views = vec![view(0.0, &[a, still], 0.0), view(0.05, &[b, still], 0.7)];
+        let changes = LookChanges::new(&views, PITCH);
+        let split = changes.split(&views, None);
+        let at_a = changes_near(&split, 2.8, 0.3);
+        let at_b = changes_near(&split, 2.8, -0.3);
+        assert!(!at_a.is_empty() && !at_b.is_empty());
+        let share =
+            |v: &[Change], c: Change| v.iter().filter(|&&x| x == c).count() as f64 / v.len() as f64;
+        assert!(share(&at_a, Change::Departed) > 0.9, "A departed");
+        assert!(share(&at_b, Change::Arrived) > 0.9, "B arrived");
+        let still_points = changes_near(&split, 2.3, 0.9);
+        assert!(
+            share(&still_points, Change::Stayed) > 0.99,
+            "the one standing still"
+        );
+        let wall = changes_near(&split, 4.0, 1.2);
+        assert!(share(&wall, Change::Stayed) > 0.99, "the wall");
+    }
+
+    #[test]
+    fn a_still_room_changes_nowhere_and_a_later_look_finds_what_came_since() {
+        // Invariant: two overlapping views of a still room leave every point Stayed; a person who came after the look before stands where that look saw through, so their points are Arrived when it is given and Stayed when it is not; the look before saw through the person's place and not through the wall.
+        let person = Column(2.6, 0.0);
+        let before_views = vec![view(0.0, &[], 0.0), view(0.05, &[], 0.7)];
+        let before = LookChanges::new(&before_views, PITCH);
+        assert!(
+            before
+                .split(&before_views, None)
+                .changes
+                .iter()
+                .all(|c| *c == Change::Stayed)
+        );
+        let now_views = vec![view(0.0, &[person], 10.0), view(0.05, &[person], 10.7)];
+        let now = LookChanges::new(&now_views, PITCH);
+        let near = |split: &SplitLook| changes_near(split, 2.4, 0.0);
+        let alone = now.split(&now_views, None);
+        assert!(near(&alone).iter().all(|c| *c == Change::Stayed));
+        let after = now.split(&now_views, Some(&before));
+        let arrived = near(&after)
+            .iter()
+            .filter(|c| **c == Change::Arrived)
+            .count();
+        assert!(arrived as f64 > 0.9 * near(&after).len() as f64);
+        // The look before saw through where the person stands now, not through the wall it returned.
+        assert!(before.any_looked_through(&Point3::new(2.4, 0.0, 1.0)));
+        assert!(!before.any_looked_through(&Point3::new(4.0, 0.0, 1.0)));
     }
 }

@@ -459,6 +459,45 @@ mod tests {
     }
 
     #[test]
+    fn a_yielding_actor_stops_short_of_the_robot_and_walks_on_when_it_has_gone() {
+        // Invariant: a yielding actor walking at the robot stops while its next step would bring it within personal space of the robot's disc, never nearer than that, and takes its plan up where it left off once the disc is gone; an actor that does not yield walks through.
+        let mut physics = PhysicsWorld::new();
+        let mut surfaces = HashMap::new();
+        let mut walker = spec(vec![[0.0, 0.0], [4.0, 0.0]], Vec::new(), false);
+        walker.start_time = 0.0;
+        let mut actor = Actor::new(0, &walker, &[], &mut physics, &mut surfaces).expect("an actor");
+        let robot = KeepClear {
+            centre: Point2::new(2.0, 0.0),
+            radius: 0.35,
+        };
+        let limit = robot.radius + walker.radius + PERSONAL_SPACE;
+        let mut t = 0.0;
+        for _ in 0..400 {
+            t += 0.01;
+            actor.update(t, &[robot], &mut physics);
+            let gap = (actor.state().position - robot.centre).norm();
+            assert!(gap >= limit - 0.011, "came within {gap} of the robot");
+        }
+        let held = actor.state().position;
+        assert!(
+            held.x > 2.0 - limit - 0.02,
+            "it walked up to the robot: {held}"
+        );
+        for _ in 0..100 {
+            t += 0.01;
+            actor.update(t, &[], &mut physics);
+        }
+        assert!(actor.state().position.x > held.x + 0.9, "it walked on");
+        walker.yields = false;
+        let mut rude = Actor::new(0, &walker, &[], &mut physics, &mut surfaces).expect("an actor");
+        rude.update(3.0, &[robot], &mut physics);
+        assert!(
+            (rude.state().position.x - 3.0).abs() < 1e-9,
+            "keeps its timetable"
+        );
+    }
+
+    #[test]
     fn bad_actors_are_errors() {
         // No waypoints, a non-positive speed, or a drop index past the end are refused.
         assert!(Plan::new(&spec(vec![], vec![], false)).is_err());

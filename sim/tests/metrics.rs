@@ -201,3 +201,53 @@ fn a_person_walking_into_a_chair_the_hand_pushes_is_counted_as_a_pushed_object_c
     );
     assert_eq!(effort.people_contacts, 0, "{effort:?}");
 }
+
+#[test]
+fn an_obstacle_kept_where_nothing_stands_is_a_ghost_and_one_on_an_object_or_a_wall_is_not() {
+    // Invariant: ghosts are counted against the truth: an obstacle over the chair (even a hull a few centimetres off its side), over the room's wall or over a person is not a ghost; one over empty floor, or a sliver 0.2 m off the chair, is.
+    use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
+    use nudge_sim::metrics::ghosts;
+    use nudge_sim::truth::Truth;
+    let s = robot_and(&format!(
+        "{TEST_CHAIR}\n[[actor]]\nname = \"bystander\"\nwaypoints = [[3.5, 1.0]]\nspeed = 0.5"
+    ));
+    let world = World::new(&s, 1).expect("world");
+    let truth = Truth::new(&world);
+    let square = |id: u32, x0: f64, y0: f64, x1: f64, y1: f64| Prism {
+        id: ObjectId(id),
+        footprint: vec![
+            Point2::new(x0, y0),
+            Point2::new(x1, y0),
+            Point2::new(x1, y1),
+            Point2::new(x0, y1),
+        ],
+        z_min: 0.0,
+        z_max: 1.0,
+        points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
+    };
+    // The chair stands on x 1.55..2.05, y 1.55..2.05.
+    let on_chair = square(1, 1.6, 1.6, 2.0, 2.0);
+    let beside_chair = square(2, 2.1, 1.6, 2.14, 2.0);
+    let on_floor = square(3, 4.0, 2.5, 4.5, 3.0);
+    let off_chair = square(4, 2.3, 1.6, 2.35, 2.0);
+    let on_wall = square(5, 0.5, -0.02, 3.0, 0.03);
+    let on_person = square(6, 3.4, 0.9, 3.6, 1.1);
+    assert!(!ghosts::is_ghost(&on_chair, &truth));
+    assert!(
+        !ghosts::is_ghost(&beside_chair, &truth),
+        "a hull a few cm off"
+    );
+    assert!(ghosts::is_ghost(&on_floor, &truth));
+    assert!(ghosts::is_ghost(&off_chair, &truth), "0.25 m off the chair");
+    assert!(!ghosts::is_ghost(&on_wall, &truth));
+    assert!(!ghosts::is_ghost(&on_person, &truth));
+    let all = [
+        on_chair,
+        beside_chair,
+        on_floor,
+        off_chair,
+        on_wall,
+        on_person,
+    ];
+    assert_eq!(ghosts::count(&all, &truth), 2);
+}

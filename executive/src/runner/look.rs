@@ -80,9 +80,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let width = self.world.views.first().map_or(1, |v| v.width().max(1));
         let pitch = self.config.view.camera.h_fov / width as f64;
         let changes = LookChanges::new(&self.world.views, pitch);
-        let split = changes.split(&self.world.views, self.world.last_look.as_ref());
+        // Only the look's own views are compared: a look from elsewhere sees edges and thin parts
+        // differently enough to read change into a still room.
+        let split = changes.split(&self.world.views, None);
         let (fused, arrived) = self.fold_changes(split, &changes);
-        self.world.last_look = Some(changes);
         self.world.see(&fused);
         // Learn the floor in front of the robot; when that patch shows no floor (facing a wall, an
         // object), keep the model learnt before.

@@ -74,9 +74,6 @@ pub(crate) struct WorldModel {
     /// Obstacles a look saw arrive (an earlier view of the look saw through where they stand): they
     /// came while the head turned, so they move by themselves or were carried, and may be people.
     pub arrivals: std::collections::BTreeSet<nudge_perception::ObjectId>,
-    /// The range images of the last look-around: what the next look returns where one of them looked
-    /// through came since.
-    pub last_look: Option<nudge_perception::LookChanges>,
     /// Where a walk was blocked before it got away (see the runner's `plan_to`).
     pub stuck_at: Option<Point2<f64>>,
     /// Objects a push test's stroke stopped on with its force leaning out of the horizontal: they

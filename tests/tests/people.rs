@@ -1,0 +1,59 @@
+//! People in the room (issue 18), end to end in the simulation and scored against its truth: a
+//! person pacing across the paper's room and four people wandering an 8 × 6 m room.
+
+use nudge_executive::record::NullObserver;
+use nudge_executive::{CandidatePolicy, RunReport, State};
+use nudge_sim::adapter::SimRobot;
+use nudge_sim::metrics::ghosts;
+use nudge_sim::truth::Truth;
+use nudge_tests::print_timeline;
+use nudge_tests::truth::score;
+
+/// Runs the shipped scenario `name` on `seed` and returns its report and the robot.
+fn run(name: &str, seed: u64) -> (RunReport, SimRobot) {
+    let scenario = nudge_tests::scenario(name).expect("scenario loads");
+    let (report, robot): (RunReport, SimRobot) =
+        nudge_tests::run(&scenario, seed, CandidatePolicy::Nearest, NullObserver)
+            .expect("world builds");
+    print_timeline(&report);
+    (report, robot)
+}
+
+/// Asserts the run reached the goal, touched nobody, kept no ghost and judged every object right.
+fn assert_safe_and_clean(name: &str, seed: u64) {
+    let (report, robot) = run(name, seed);
+    assert!(
+        matches!(report.outcome, State::Goal),
+        "{name} seed {seed}: {:?}",
+        report.outcome
+    );
+    let effort = robot.world().effort();
+    assert_eq!(
+        (effort.people_contacts, effort.pushed_into_people),
+        (0, 0),
+        "{name} seed {seed}: contacts with people"
+    );
+    let truth = Truth::new(robot.world());
+    let kept: Vec<String> = report
+        .obstacles
+        .iter()
+        .filter(|p| ghosts::is_ghost(p, &truth))
+        .map(|p| p.id.to_string())
+        .collect();
+    assert!(kept.is_empty(), "{name} seed {seed}: ghosts {kept:?}");
+    for s in score(&report, &robot) {
+        assert!(s.correct, "{name} seed {seed}: {s:?}");
+    }
+}
+
+#[test]
+fn a_person_pacing_across_the_paper_room_is_never_touched_and_leaves_no_ghost() {
+    // Invariant: with a person pacing between the robot and the barrier for the whole run, the robot reaches the goal, its body, hand and pushed objects touch nobody (the simulation's contact count), no obstacle it keeps at the end stands where the truth has nothing, and every verdict is right.
+    assert_safe_and_clean("person-pacing", 1);
+}
+
+#[test]
+fn four_wanderers_are_waited_for_and_leave_no_ghost() {
+    // Invariant: among four people wandering across its way, the robot reaches the goal without touching anyone, and keeps no obstacle where the truth has nothing at the end.
+    assert_safe_and_clean("four-wanderers", 1);
+}
