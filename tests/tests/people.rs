@@ -1,5 +1,5 @@
 //! People in the room (issue 18), end to end in the simulation and scored against its truth: a
-//! person pacing across the paper's room and four people wandering an 8 × 6 m room.
+//! person standing in the way of the only push, and four people wandering an 8 × 6 m room.
 
 use nudge_executive::record::NullObserver;
 use nudge_executive::{CandidatePolicy, RunReport, State};
@@ -47,9 +47,9 @@ fn assert_safe_and_clean(name: &str, seed: u64) {
 }
 
 #[test]
-fn a_person_pacing_across_the_paper_room_is_never_touched_and_leaves_no_ghost() {
-    // Invariant: with a person pacing between the robot and the barrier for the whole run, the robot reaches the goal, its body, hand and pushed objects touch nobody (the simulation's contact count), no obstacle it keeps at the end stands where the truth has nothing, and every verdict is right.
-    assert_safe_and_clean("person-pacing", 1);
+fn a_push_waits_for_the_person_standing_in_its_way_and_touches_nobody() {
+    // Invariant: with a person standing in the sweep of the only push until t = 100 s, the robot reaches the goal, its body, hand and pushed objects touch nobody (the simulation's contact count), no obstacle it keeps at the end stands where the truth has nothing, and every verdict is right (chair-1 movable).
+    assert_safe_and_clean("person-beside-chair", 1);
 }
 
 #[test]
