@@ -30,11 +30,13 @@ const SEEN_THROUGH_SHARE: f64 = 0.5;
 /// nearer a mover than this does not start.
 pub const PERSON_CLEARANCE: f64 = 0.45;
 
-/// Departed or arrived points a grid cell must hold for the look to count motion there: ten, a patch
-/// of surface a few centimetres across at the camera's range (its pixels lie about a centimetre
-/// apart at 3 m), where a person's body gives a column of a hundred or more; the edge of a table top
-/// or a chair's seat seen a pixel differently by two views gives one to three.
-const CELL_POINTS: usize = 10;
+/// Departed or arrived points a grid cell must hold for the look to count motion there: thirty, a
+/// fifth of the column a person's body gives in a 5 cm cell (the camera's pixels lie about 2 cm
+/// apart at 5 m, so a 1.7 m body is some 80 rows of two columns there, and more nearer); the edge of
+/// a table top or a chair's seat seen a pixel differently by two views gives one to three, and the
+/// far end of a 14 m hall up to a dozen (ten was tried: one run of `long-hall` in 30 read people
+/// into it).
+const CELL_POINTS: usize = 30;
 
 /// Arrived points that make an obstacle an arrival: a few dozen, a patch of a few centimetres at a
 /// few metres' range (the camera's pixels lie about a centimetre apart there), more than the odd
