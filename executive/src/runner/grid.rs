@@ -372,7 +372,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
         let moving = CellClass::Moving as u8;
         // Which cells were Moving before the frame: those it turns Moving are motion seen now.
-        let before: Vec<bool> = grid.class_codes().iter().map(|&c| c == moving).collect();
+        let before: Vec<bool> = if motion {
+            grid.class_codes().iter().map(|&c| c == moving).collect()
+        } else {
+            Vec::new()
+        };
         let result = RangeFrame::from_cloud(cloud, &self.config.grid.reduction)
             .and_then(|frame| grid.update(&frame, cloud.stamp()));
         if result.is_ok() && motion {

@@ -33,9 +33,8 @@ pub const PERSON_CLEARANCE: f64 = 0.45;
 /// Departed or arrived points a grid cell must hold for the look to count motion there: thirty, a
 /// fifth of the column a person's body gives in a 5 cm cell (the camera's pixels lie about 2 cm
 /// apart at 5 m, so a 1.7 m body is some 80 rows of two columns there, and more nearer); the edge of
-/// a table top or a chair's seat seen a pixel differently by two views gives one to three, and the
-/// far end of a 14 m hall up to a dozen (ten was tried: one run of `long-hall` in 30 read people
-/// into it).
+/// a table top or a chair's seat seen a pixel differently by two views gives one to three (ten was
+/// tried: at the far end of the 14 m hall, one run of `long-hall` in 30 read people into it).
 const CELL_POINTS: usize = 30;
 
 /// Arrived points that make an obstacle an arrival: a few dozen, a patch of a few centimetres at a
