@@ -96,6 +96,12 @@ pub enum Event {
         /// elsewhere might find a push.
         unseen: bool,
     },
+    /// A push of the target was planned, but something that may be a person stands within the
+    /// safety distance of the object or its sweep: the push waits for them to leave.
+    PersonNearPush {
+        /// Who stands where, for the explanation.
+        reason: String,
+    },
     /// The walk stopped before floor under the path that the walking camera could not see in time.
     UnseenAhead {
         /// How far ahead along the path the first such cell lies (m).
@@ -162,6 +168,7 @@ impl Event {
             Event::CandidatesRanked { .. } => "CandidatesRanked",
             Event::PushPlanned(_) => "PushPlanned",
             Event::NoPushPlan { .. } => "NoPushPlan",
+            Event::PersonNearPush { .. } => "PersonNearPush",
             Event::UnseenAhead { .. } => "UnseenAhead",
             Event::ViewPlanned(_) => "ViewPlanned",
             Event::NoView { .. } => "NoView",

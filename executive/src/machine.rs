@@ -40,6 +40,9 @@ pub struct Knowledge {
     /// settled, as one that jammed is, so a walk blocked again and again does not loop until the
     /// replan limit.
     pub approach_blocks: BTreeMap<ObjectId, u32>,
+    /// Objects whose push was put off because something that may be a person stood near it or its
+    /// sweep: with nothing else left, the robot waits for them as for a mover in the way.
+    pub person_near: BTreeSet<ObjectId>,
 }
 
 /// Every edge of the machine, for timelines and coverage.
@@ -82,6 +85,10 @@ pub enum Edge {
     PushPlanned,
     /// ApproachPushPose(Planning) → SelectCandidate: no push, and no unseen floor could change that.
     NoPushPlan,
+    /// ApproachPushPose(Planning) → SelectCandidate: a push was planned, but something that may be a
+    /// person stands near the object or its sweep; the next candidate comes first, and with none left
+    /// the robot waits for them (within the run's waits for movers).
+    PersonNearPush,
     /// ApproachPushPose(Planning) → PlanView(Push): no push, but floor around or under the object is
     /// unseen; look before ruling it out.
     LookForPush,
@@ -164,7 +171,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 48] = [
+    pub const ALL: [Edge; 49] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -181,6 +188,7 @@ impl Edge {
         Edge::LookForWay,
         Edge::PushPlanned,
         Edge::NoPushPlan,
+        Edge::PersonNearPush,
         Edge::LookForPush,
         Edge::PushIntoUnseen,
         Edge::UnseenAhead,
@@ -417,6 +425,18 @@ pub fn transition(
         (
             State::ApproachPushPose {
                 target,
+                phase: Approach::Planning,
+                ..
+            },
+            Event::PersonNearPush { reason },
+        ) => {
+            k.explanation.unpushable.insert(*target, reason.clone());
+            k.person_near.insert(*target);
+            select_candidate(k, config, Edge::PersonNearPush)
+        }
+        (
+            State::ApproachPushPose {
+                target,
                 purpose,
                 phase: Approach::Walking(intent),
             },
@@ -572,6 +592,7 @@ fn settled(k: &Knowledge, config: &ExecutiveConfig) -> Vec<ObjectId> {
 fn wait_for(id: ObjectId, mut k: Knowledge) -> Step {
     *k.waits.entry(id).or_insert(0) += 1;
     k.explanation.unpushable.clear();
+    k.person_near.clear();
     step(
         State::LookAround,
         k,
@@ -640,6 +661,15 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
             .filter(|_| waits < config.mover_waits)
         {
             return wait_for(m.id, k);
+        }
+        // A push put off for a person near it: they may have left by the next look.
+        if let Some(&id) = k
+            .person_near
+            .iter()
+            .next()
+            .filter(|_| waits < config.mover_waits)
+        {
+            return wait_for(id, k);
         }
         // Nothing left to push, but something in the way moved lately: it may walk on.
         if let Some(m) = list

@@ -415,6 +415,25 @@ cases! {
         assert_eq!(s.commands, vec![Command::WalkToPushPose(intent(TABLE))]);
         s.edge
     }
+    a_push_put_off_for_a_person_waits_for_them => {
+        // Invariant: a push put off because someone may stand near it rules the object out only until the robot has looked again: another candidate comes first; with none left the robot waits (a look, counted against mover_waits), and the wait brings the object back; with the waits spent it asks where to look instead.
+        let e = Event::PersonNearPush { reason: "obj-9 may be a person".into() };
+        let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), e);
+        assert_eq!(s.state, State::SelectCandidate);
+        assert_eq!(s.commands, vec![Command::RankCandidates { policy: CandidatePolicy::Nearest, exclude: vec![TABLE] }]);
+        assert!(s.knowledge.person_near.contains(&TABLE));
+        let other = run(State::SelectCandidate, &s.knowledge, candidates(&[CHAIR]));
+        assert_eq!(other.state, approach(CHAIR, Purpose::Test, Approach::Planning));
+        let wait = run(State::SelectCandidate, &s.knowledge, candidates(&[]));
+        assert_eq!((wait.state, wait.commands), (State::LookAround, vec![Command::LookAround]));
+        assert!(wait.knowledge.explanation.unpushable.is_empty() && wait.knowledge.person_near.is_empty());
+        assert_eq!(wait.knowledge.waits.get(&TABLE), Some(&1));
+        let mut spent = s.knowledge.clone();
+        spent.waits.insert(CHAIR, config().mover_waits);
+        let out = run(State::SelectCandidate, &spent, candidates(&[]));
+        assert_eq!(out.state, State::PlanView { question: Question::Way });
+        s.edge
+    }
     no_push_plan_marks_the_object_and_selects_again => {
         // Invariant: an object without a push plan is settled as unpushable and the ranking is redone without it.
         let s = run(approach(TABLE, Purpose::Test, Approach::Planning), &Knowledge::default(), Event::NoPushPlan { reason: "no stand pose".into(), unseen: false });

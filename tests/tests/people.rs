@@ -57,3 +57,9 @@ fn four_wanderers_are_waited_for_and_leave_no_ghost() {
     // Invariant: among four people wandering across its way, the robot reaches the goal without touching anyone, and keeps no obstacle where the truth has nothing at the end.
     assert_safe_and_clean("four-wanderers", 1);
 }
+
+#[test]
+fn a_person_pacing_past_the_barrier_is_never_push_tested_or_touched() {
+    // Invariant: with a person pacing between the robot and the barrier for the whole run (they stop short of the robot and wait, as people do), the robot reaches the goal without push-testing them (every verdict right against the truth: a person would read static) and without touching them, and keeps no ghost.
+    assert_safe_and_clean("person-pacing", 1);
+}

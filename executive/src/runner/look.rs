@@ -103,7 +103,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             &self.config.perception,
             &self.world.prisms,
         ) {
-            Ok(detection) => {
+            Ok(mut detection) => {
+                self.world.number_fresh(&mut detection.prisms);
                 let floor_points = floor.split(&fused).0;
                 self.world.floor = Some(floor);
                 // The look's steep views see the floor near the robot, which the grid leaves out.
@@ -126,6 +127,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.forget_movers_out_of_sight(&movers, &shown);
                 self.note_detected(&shown);
                 self.note_arrivals(&arrived);
+                self.note_arrived_on_free_floor();
                 let stamp = self.robot.now();
                 self.observer.prisms(stamp, &self.world.prisms);
                 Event::ObjectsDetected {

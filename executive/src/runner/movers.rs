@@ -42,6 +42,13 @@ const CELL_POINTS: usize = 30;
 /// point a surface's edge can give.
 const ARRIVED_POINTS: usize = 30;
 
+/// The share of an obstacle's footprint cells the grid must hold Free, when a look first finds it
+/// there, for it to have arrived since the grid saw that floor: a third. Furniture that stood there
+/// all along hid its floor from every ray (at most 1 % of its cells Free over every shipped
+/// scenario); a person seen from one side is a thin arc of points whose hull spans floor that the
+/// grid saw empty before they came (30-95 % of it in the people scenarios).
+const ARRIVED_ON_FREE: f64 = 1.0 / 3.0;
+
 /// How far outside a footprint an arrived point still counts as the obstacle's (m): the footprint is
 /// a hull of 4 cm elevation cells, and its own points lie up to a cell from its outline.
 const ARRIVAL_REACH: f64 = 0.05;
@@ -218,6 +225,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.world.arrivals.insert(prism.id);
             }
         }
+    }
+
+    /// Notes as arrivals the obstacles the look found standing on floor the grid saw free before
+    /// (at least [`ARRIVED_ON_FREE`] of their cells): nothing the robot tested or moved, so something
+    /// that came by itself or was brought — a person, or what a person left (which passive evidence
+    /// then calls movable, and which stays a candidate for a push).
+    pub(crate) fn note_arrived_on_free_floor(&mut self) {
+        let arrived: Vec<ObjectId> = self.untouched(|p| {
+            !self.world.arrivals.contains(&p.id) && self.world.free_share(p) >= ARRIVED_ON_FREE
+        });
+        self.world.arrivals.extend(arrived);
     }
 
     /// Notes that the look's detections (`shown`, their footprints) showed the obstacles they overlap

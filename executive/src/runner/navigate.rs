@@ -9,7 +9,8 @@ use crate::event::Event;
 use crate::push_test::PushIntent;
 use crate::view::Viewpoint;
 
-fn wrap(a: f64) -> f64 {
+/// `a` wrapped into [-π, π).
+pub(super) fn wrap(a: f64) -> f64 {
     (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 use crate::record::Observer;

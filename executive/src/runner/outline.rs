@@ -90,6 +90,33 @@ impl WorldModel {
         out
     }
 
+    /// The share of the grid cells whose centres `prism`'s footprint holds that the grid holds Free
+    /// (0 without a grid or such cells): floor it saw through or on before, where the obstacle now
+    /// stands.
+    pub(super) fn free_share(&self, prism: &Prism) -> f64 {
+        let Some(grid) = &self.grid else {
+            return 0.0;
+        };
+        let geometry = grid.geometry();
+        let (lo, hi) = footprint_box(prism);
+        let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+            return 0.0;
+        };
+        let (mut inside, mut free) = (0usize, 0usize);
+        for y in a.y..=b.y {
+            for x in a.x..=b.x {
+                let cell = nudge_perception::grid::CellIndex { x, y };
+                if prism.contains_xy(&geometry.centre(cell)) {
+                    inside += 1;
+                    free += usize::from(
+                        grid.class(cell) == Some(nudge_perception::grid::CellClass::Free),
+                    );
+                }
+            }
+        }
+        free as f64 / inside.max(1) as f64
+    }
+
     /// Whether the grid holds every cell `prism`'s footprint overlaps Free: it saw floor all over
     /// where the obstacle was (a sliver left where an object stood before a push, too small to hold
     /// the look's floor points that forget larger ones).
@@ -107,16 +134,20 @@ mod tests {
     use super::*;
     use crate::runner::unseen::SeenMemory;
     use crate::runner::world::tests::{config_to, floor, prism};
-    use nudge_perception::grid::ObstacleGrid;
+    use nudge_perception::grid::{GridGeometry, ObstacleGrid};
+
+    /// A run's configuration and an empty grid of 5 cm cells over a 4 m × 2 m room.
+    fn room_4_by_2() -> (crate::runner::config::RunConfig, GridGeometry, ObstacleGrid) {
+        let config = config_to(Point2::new(5.0, 1.0));
+        let geometry = GridGeometry::new(Point2::origin(), [4.0, 2.0], 0.05).expect("a grid");
+        let grid = ObstacleGrid::new(geometry, config.grid.rules);
+        (config, geometry, grid)
+    }
 
     #[test]
     fn an_obstacle_seen_from_one_side_has_a_quarter_of_its_outline_seen() {
         // Invariant: the outline seen is the share of a footprint's edges whose floor just outside was seen, or that lie against another obstacle; a box whose west side alone was seen has a quarter of it, with a neighbour against its east side a half, with everything round it seen all of it; the places it was seen from are those of the looks that showed it.
-        let config = config_to(Point2::new(5.0, 1.0));
-        let geometry =
-            nudge_perception::grid::GridGeometry::new(Point2::origin(), [4.0, 2.0], 0.05)
-                .expect("a grid");
-        let grid = ObstacleGrid::new(geometry, config.grid.rules);
+        let (config, geometry, grid) = room_4_by_2();
         let mut world = WorldModel {
             memory: SeenMemory::new(geometry.len()),
             grid: Some(grid),
@@ -151,6 +182,45 @@ mod tests {
         assert_eq!(
             looked.outline_seen(&looked.prisms[0]).1,
             &[Point2::new(0.6, 0.75), Point2::new(1.2, 1.6)]
+        );
+    }
+
+    #[test]
+    fn the_free_share_of_an_obstacle_is_the_floor_the_grid_saw_free_under_it() {
+        // Invariant: an obstacle's free share is the share of its footprint's cell centres the grid holds Free — all of it over floor the grid saw empty (where something stood and was pushed away), none over floor it never saw, half for one half over each.
+        use nudge_perception::ObjectId;
+        use nudge_perception::grid::{Footprint, Verdict};
+        let (_, _, mut grid) = room_4_by_2();
+        let was = prism(9, 1.0, 0.5, 2.0, 1.5).footprint;
+        let now = prism(9, 3.2, 0.5, 3.8, 1.5).footprint;
+        grid.mark_object(
+            ObjectId(9),
+            Footprint::Polygon(&was),
+            Verdict::Movable,
+            1,
+            1.0,
+        )
+        .expect("marked");
+        grid.object_moved(
+            ObjectId(9),
+            Footprint::Polygon(&was),
+            Footprint::Polygon(&now),
+            2.0,
+        )
+        .expect("moved");
+        let world = WorldModel {
+            grid: Some(grid),
+            ..WorldModel::default()
+        };
+        let on_free = world.free_share(&prism(1, 1.2, 0.7, 1.8, 1.3));
+        let never_seen = world.free_share(&prism(2, 2.2, 0.7, 2.8, 1.3));
+        let half = world.free_share(&prism(3, 1.7, 0.7, 2.3, 1.3));
+        assert!((on_free - 1.0).abs() < 1e-9, "{on_free}");
+        assert_eq!(never_seen, 0.0);
+        assert!((half - 0.5).abs() < 0.1, "{half}");
+        assert_eq!(
+            WorldModel::default().free_share(&prism(1, 1.2, 0.7, 1.8, 1.3)),
+            0.0
         );
     }
 }

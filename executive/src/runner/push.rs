@@ -11,6 +11,7 @@ use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colo
 use rand_chacha::ChaCha8Rng;
 
 use super::config::RunConfig;
+use super::navigate::wrap;
 use super::unseen::Floor;
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
@@ -197,10 +198,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .ok()
             .and_then(|plan| self.person_near_push(&prism, plan))
         {
-            return Event::NoPushPlan {
-                reason: why,
-                unseen: false,
-            };
+            return Event::PersonNearPush { reason: why };
         }
         match planned {
             Ok(plan) => {
@@ -595,10 +593,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.sense(&cloud, false);
         Ok(cloud.to_map())
     }
-}
-
-fn wrap(a: f64) -> f64 {
-    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 /// The points of `cloud` (map frame) inside `prism`'s footprint moved by `shift` and grown by `margin`,

@@ -18,6 +18,10 @@ pub(crate) struct WorldModel {
     pub views: Vec<ColourCloud>,
     /// Obstacles of the latest detection.
     pub prisms: Vec<Prism>,
+    /// The id the next obstacle never seen before takes: ids are never handed out twice in a run, so
+    /// what the run holds about a forgotten obstacle (a verdict, a wait, an arrival) never passes to
+    /// a new one (perception numbers fresh obstacles on from the highest id it is shown).
+    pub next_id: u32,
     /// The path being walked.
     pub path: Option<Path>,
     /// The push plan being executed.
@@ -100,6 +104,19 @@ const CLEARANCE_FRACTIONS: [f64; 3] = [1.0, 0.5, 0.0];
 const SEEN_MAX_HEIGHT: f32 = 2.5;
 
 impl WorldModel {
+    /// Gives the obstacles of a new detection that no remembered obstacle's id matched (perception's
+    /// fresh ids) ids never used before in the run (see [`Self::next_id`]).
+    pub fn number_fresh(&mut self, detected: &mut [Prism]) {
+        let used = self.prisms.iter().map(|p| p.id.0 + 1).max().unwrap_or(0);
+        self.next_id = self.next_id.max(used);
+        for p in detected.iter_mut() {
+            if !self.prisms.iter().any(|q| q.id == p.id) {
+                p.id = nudge_perception::ObjectId(self.next_id);
+                self.next_id = self.next_id.saturating_add(1);
+            }
+        }
+    }
+
     /// Grows the seen box by the valid points of `cloud` (map frame).
     pub fn see(&mut self, cloud: &ColourCloud) {
         for (_, p, _) in cloud.iter_valid() {
@@ -619,6 +636,21 @@ pub(super) mod tests {
             }
         }
         cloud
+    }
+
+    #[test]
+    fn an_id_is_never_handed_out_twice_in_a_run() {
+        // Invariant: an obstacle a new detection found afresh gets an id no obstacle of the run had before, even after the one with the highest id was forgotten (perception alone would hand that id out again); obstacles it matched keep theirs.
+        let mut world = WorldModel::default();
+        let mut first = vec![prism(0, 0.0, 0.0, 0.5, 0.5), prism(1, 1.0, 0.0, 1.5, 0.5)];
+        world.number_fresh(&mut first);
+        assert_eq!(first.iter().map(|p| p.id.0).collect::<Vec<_>>(), [0, 1]);
+        world.prisms = first;
+        world.prisms.retain(|p| p.id.0 == 0);
+        // Perception numbers fresh obstacles on from the highest id it is shown: 1 again.
+        let mut second = vec![prism(0, 0.0, 0.0, 0.5, 0.5), prism(1, 2.0, 0.0, 2.5, 0.5)];
+        world.number_fresh(&mut second);
+        assert_eq!(second.iter().map(|p| p.id.0).collect::<Vec<_>>(), [0, 2]);
     }
 
     #[test]

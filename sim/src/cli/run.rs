@@ -67,14 +67,21 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         let effort = robot.world().effort();
         (effort.people_contacts, effort.pushed_into_people)
     });
-    // Obstacles kept where the truth has nothing, with their ids.
+    // Obstacles kept where the truth has nothing, with their ids and where they stand.
     let ghosts: Vec<String> = {
         let truth = crate::truth::Truth::new(robot.world());
         report
             .obstacles
             .iter()
             .filter(|p| crate::metrics::ghosts::is_ghost(p, &truth))
-            .map(|p| p.id.to_string())
+            .map(|p| {
+                let n = p.footprint.len().max(1) as f64;
+                let (x, y) = p
+                    .footprint
+                    .iter()
+                    .fold((0.0, 0.0), |(x, y), v| (x + v.x / n, y + v.y / n));
+                format!("{} at ({x:.2}, {y:.2})", p.id)
+            })
             .collect()
     };
     if let (Some(mut recorder), Some(path)) = (recorder, &args.record) {
