@@ -56,6 +56,29 @@ struct RangeImage {
     rows: usize,
     /// Nearest return per bin (m); infinity for none.
     nearest: Vec<f32>,
+    /// [`Self::may_hold`]'s bounds, worked out once per image (every point of a look asks them).
+    bounds: Bounds,
+}
+
+/// The tangents of an image's azimuth and elevation bounds (a bin's slack beyond its bins), where
+/// they lie within a quarter turn of the sensor's axis: `None` where they do not, and the
+/// trigonometry must decide.
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    azimuth: Option<(f32, f32)>,
+    elevation: Option<(f32, f32)>,
+}
+
+impl Bounds {
+    fn of(bin: f32, az0: f32, el0: f32, cols: usize, rows: usize) -> Self {
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        let within =
+            |lo: f32, hi: f32| (lo > -half_pi && hi < half_pi).then(|| (lo.tan(), hi.tan()));
+        Self {
+            azimuth: within(az0 - bin, az0 + (cols as f32 + 1.0) * bin),
+            elevation: within(el0 - bin, el0 + (rows as f32 + 1.0) * bin),
+        }
+    }
 }
 
 impl RangeImage {
@@ -94,6 +117,7 @@ impl RangeImage {
             cols,
             rows,
             nearest: vec![f32::INFINITY; cols * rows],
+            bounds: Bounds::of(bin, az_lo, el_lo, cols, rows),
         };
         for (az, el, r) in polar {
             if let Some(i) = image.index(az, el) {
@@ -107,27 +131,16 @@ impl RangeImage {
     /// outside the image's azimuths and elevations (with a bin's slack), most points of the other
     /// views of a look.
     fn may_hold(&self, q: &Point3<f32>) -> bool {
-        let slack = self.bin;
-        let (lo, hi) = (
-            self.az0 - slack,
-            self.az0 + (self.cols as f32 + 1.0) * self.bin,
-        );
-        let half_pi = std::f32::consts::FRAC_PI_2;
         // Azimuth by the tangent where the image lies in front of the sensor (it always does for
         // a camera narrower than a half turn); otherwise ask the trigonometry.
-        if lo > -half_pi
-            && hi < half_pi
-            && (q.x <= 0.0 || q.y < q.x * lo.tan() || q.y > q.x * hi.tan())
+        if let Some((lo, hi)) = self.bounds.azimuth
+            && (q.x <= 0.0 || q.y < q.x * lo || q.y > q.x * hi)
         {
             return false;
         }
-        let (el_lo, el_hi) = (
-            self.el0 - slack,
-            self.el0 + (self.rows as f32 + 1.0) * self.bin,
-        );
-        if el_lo > -half_pi && el_hi < half_pi {
+        if let Some((lo, hi)) = self.bounds.elevation {
             let h = q.x.hypot(q.y);
-            if q.z < h * el_lo.tan() || q.z > h * el_hi.tan() {
+            if q.z < h * lo || q.z > h * hi {
                 return false;
             }
         }
