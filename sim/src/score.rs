@@ -138,7 +138,8 @@ fn true_outline(spec: &ObjectSpec, pose: &Isometry3<f64>) -> Option<Vec<Point2<f
     )
 }
 
-fn centroid(prism: &Prism) -> Point2<f64> {
+/// The mean of `prism`'s footprint vertices (the origin for an empty footprint).
+pub(crate) fn centroid(prism: &Prism) -> Point2<f64> {
     let sum = prism
         .footprint
         .iter()

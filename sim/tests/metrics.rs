@@ -205,7 +205,6 @@ fn a_person_walking_into_a_chair_the_hand_pushes_is_counted_as_a_pushed_object_c
 #[test]
 fn an_obstacle_kept_where_nothing_stands_is_a_ghost_and_one_on_an_object_or_a_wall_is_not() {
     // Invariant: ghosts are counted against the truth: an obstacle over the chair (even a hull a few centimetres off its side), over the room's wall or over a person is not a ghost; one over empty floor, or a sliver 0.2 m off the chair, is.
-    use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
     use nudge_sim::metrics::ghosts;
     use nudge_sim::truth::Truth;
     let s = robot_and(&format!(
@@ -213,25 +212,13 @@ fn an_obstacle_kept_where_nothing_stands_is_a_ghost_and_one_on_an_object_or_a_wa
     ));
     let world = World::new(&s, 1).expect("world");
     let truth = Truth::new(&world);
-    let square = |id: u32, x0: f64, y0: f64, x1: f64, y1: f64| Prism {
-        id: ObjectId(id),
-        footprint: vec![
-            Point2::new(x0, y0),
-            Point2::new(x1, y0),
-            Point2::new(x1, y1),
-            Point2::new(x0, y1),
-        ],
-        z_min: 0.0,
-        z_max: 1.0,
-        points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
-    };
     // The chair stands on x 1.55..2.05, y 1.55..2.05.
-    let on_chair = square(1, 1.6, 1.6, 2.0, 2.0);
-    let beside_chair = square(2, 2.1, 1.6, 2.14, 2.0);
-    let on_floor = square(3, 4.0, 2.5, 4.5, 3.0);
-    let off_chair = square(4, 2.3, 1.6, 2.35, 2.0);
-    let on_wall = square(5, 0.5, -0.02, 3.0, 0.03);
-    let on_person = square(6, 3.4, 0.9, 3.6, 1.1);
+    let on_chair = rectangle(1, 1.6, 2.0, 1.6, 2.0);
+    let beside_chair = rectangle(2, 2.1, 2.14, 1.6, 2.0);
+    let on_floor = rectangle(3, 4.0, 4.5, 2.5, 3.0);
+    let off_chair = rectangle(4, 2.3, 2.35, 1.6, 2.0);
+    let on_wall = rectangle(5, 0.5, 3.0, -0.02, 0.03);
+    let on_person = rectangle(6, 3.4, 3.6, 0.9, 1.1);
     assert!(!ghosts::is_ghost(&on_chair, &truth));
     assert!(
         !ghosts::is_ghost(&beside_chair, &truth),

@@ -3,30 +3,14 @@ mod world_common;
 
 use std::collections::BTreeMap;
 
-use nalgebra::{Isometry3, Point2, Point3};
+use nalgebra::Point3;
 use nudge_executive::robot::{ActionStatus, Arm, Clock, GuardedMove};
 use nudge_executive::runner::Decision;
 use nudge_executive::{Knowledge, RunReport, State, Verdict};
-use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
+use nudge_perception::{ObjectId, Prism};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::score::score;
 use world_common::*;
-
-/// A prism over the floor rectangle `[x0, x1] × [y0, y1]`.
-fn rectangle(id: u32, x0: f64, x1: f64, y0: f64, y1: f64) -> Prism {
-    Prism {
-        id: ObjectId(id),
-        footprint: vec![
-            Point2::new(x0, y0),
-            Point2::new(x1, y0),
-            Point2::new(x1, y1),
-            Point2::new(x0, y1),
-        ],
-        z_min: 0.0,
-        z_max: 1.0,
-        points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
-    }
-}
 
 /// A report whose one verdict is `obstacle` found static, reached at `decided` when given.
 fn report(obstacle: Prism, decided: Option<f64>) -> RunReport {

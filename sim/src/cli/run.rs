@@ -75,12 +75,8 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             .iter()
             .filter(|p| crate::metrics::ghosts::is_ghost(p, &truth))
             .map(|p| {
-                let n = p.footprint.len().max(1) as f64;
-                let (x, y) = p
-                    .footprint
-                    .iter()
-                    .fold((0.0, 0.0), |(x, y), v| (x + v.x / n, y + v.y / n));
-                format!("{} at ({x:.2}, {y:.2})", p.id)
+                let at = crate::score::centroid(p);
+                format!("{} at ({:.2}, {:.2})", p.id, at.x, at.y)
             })
             .collect()
     };

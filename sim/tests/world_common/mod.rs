@@ -75,3 +75,23 @@ pub fn peak_while_holding(robot: &mut nudge_sim::adapter::SimRobot, peak: f64) -
 pub fn world(s: &Scenario) -> World {
     World::new(s, 1).expect("test world builds")
 }
+
+/// A prism over the floor rectangle `[x0, x1] × [y0, y1]`.
+pub fn rectangle(id: u32, x0: f64, x1: f64, y0: f64, y1: f64) -> nudge_perception::Prism {
+    nudge_perception::Prism {
+        id: nudge_perception::ObjectId(id),
+        footprint: vec![
+            nalgebra::Point2::new(x0, y0),
+            nalgebra::Point2::new(x1, y0),
+            nalgebra::Point2::new(x1, y1),
+            nalgebra::Point2::new(x0, y1),
+        ],
+        z_min: 0.0,
+        z_max: 1.0,
+        points: nudge_perception::ColourCloud::empty(
+            nudge_perception::CloudFrame::Map,
+            nalgebra::Isometry3::identity(),
+            0.0,
+        ),
+    }
+}
