@@ -10,13 +10,15 @@
 //! mover, or something that may walk on). A static surface is returned at the same range by every
 //! view that sees it, so it is neither.
 //!
-//! Each view becomes an angular range image in its own sensor frame — bins of azimuth and elevation
-//! a couple of pixels wide holding the nearest return — built from the view's points themselves, so
-//! no lens model is needed beyond the pixel pitch. A point is seen through by a view when the bin it
-//! falls in and every neighbouring bin that holds returns hold only returns farther than the point
-//! plus a margin: the neighbours keep an edge's points (a chair leg, a handle bar, the rim of a table)
-//! and a surface grazed at a shallow angle from being taken for gone, since some return beside them
-//! lies at their own range or nearer.
+//! Each view becomes a range image in its own sensor frame — bins of the tangent plane a couple of
+//! pixels wide holding the nearest return — built from the view's points themselves, so no lens model
+//! is needed beyond the pixel pitch. A pinhole camera's pixels lie evenly on that plane, so a bin
+//! holds the same number of pixels across the whole image, and a point's bin costs two divisions
+//! where angles would cost two arctangents (a look asks hundreds of thousands of points). A point is
+//! seen through by a view when the bin it falls in and every neighbouring bin that holds returns hold
+//! only returns farther than the point plus a margin: the neighbours keep an edge's points (a chair
+//! leg, a handle bar, the rim of a table) and a surface grazed at a shallow angle from being taken
+//! for gone, since some return beside them lies at their own range or nearer.
 
 use nalgebra::{Isometry3, Point3};
 use rayon::prelude::*;
@@ -24,7 +26,10 @@ use rayon::prelude::*;
 use crate::cloud::{CloudFrame, ColourCloud};
 
 /// Pixels per bin side: two, so that a point a pixel off between two views (the head does not stop
-/// exactly where it stopped before) still lands in the bin of its own surface or the next.
+/// exactly where it stopped before) still lands in the bin of its own surface or the next. On the
+/// tangent plane a pinhole camera's pixels lie `2 tan(fov / 2) / width` apart, a few per cent more
+/// than the angular pitch (5 % for a 43.6° field), so a bin spans a little under two pixels and
+/// its neighbours cover the rest.
 const BIN_PIXELS: f64 = 2.0;
 
 /// How much farther than a point every return around its direction must be for the view to have
@@ -42,43 +47,33 @@ const OVERLAP_SAMPLE: usize = 37;
 /// range along its own rays.
 pub const FLOOR_BAND: f32 = 0.05;
 
-/// A view as an angular range image in its sensor frame.
+/// Depth below which a sensor-frame point is taken to lie beside or behind the camera (m): no
+/// camera narrower than a half turn returns it, and its tangents would not be finite.
+const MIN_DEPTH: f32 = 1e-3;
+
+/// A view as a range image on its sensor frame's tangent plane (x forward: bins of y/x and z/x).
 #[derive(Clone, Debug)]
 struct RangeImage {
     /// Map → sensor.
     to_sensor: Isometry3<f32>,
-    /// Bin side (rad).
+    /// Bin side on the tangent plane.
     bin: f32,
-    /// Azimuth and elevation of bin (0, 0)'s lower edge (rad).
-    az0: f32,
-    el0: f32,
+    /// Tangents (y/x, z/x) of bin (0, 0)'s lower edge.
+    u0: f32,
+    v0: f32,
     cols: usize,
     rows: usize,
     /// Nearest return per bin (m); infinity for none.
     nearest: Vec<f32>,
-    /// [`Self::may_hold`]'s bounds, worked out once per image (every point of a look asks them).
-    bounds: Bounds,
+    /// Per bin, the nearest return of it and its eight neighbours (m), worked out once per image
+    /// (every point of a look asks it).
+    nearest_around: Vec<f32>,
 }
 
-/// The tangents of an image's azimuth and elevation bounds (a bin's slack beyond its bins), where
-/// they lie within a quarter turn of the sensor's axis: `None` where they do not, and the
-/// trigonometry must decide.
-#[derive(Clone, Copy, Debug)]
-struct Bounds {
-    azimuth: Option<(f32, f32)>,
-    elevation: Option<(f32, f32)>,
-}
-
-impl Bounds {
-    fn of(bin: f32, az0: f32, el0: f32, cols: usize, rows: usize) -> Self {
-        let half_pi = std::f32::consts::FRAC_PI_2;
-        let within =
-            |lo: f32, hi: f32| (lo > -half_pi && hi < half_pi).then(|| (lo.tan(), hi.tan()));
-        Self {
-            azimuth: within(az0 - bin, az0 + (cols as f32 + 1.0) * bin),
-            elevation: within(el0 - bin, el0 + (rows as f32 + 1.0) * bin),
-        }
-    }
+/// Tangents (y/x, z/x) and range of a sensor-frame point (x forward, y left, z up); `None` beside
+/// or behind the camera.
+fn tangents(q: &Point3<f32>) -> Option<(f32, f32, f32)> {
+    (q.x > MIN_DEPTH).then(|| (q.y / q.x, q.z / q.x, q.coords.norm()))
 }
 
 impl RangeImage {
@@ -92,103 +87,102 @@ impl RangeImage {
             CloudFrame::Map => to_sensor * p,
         };
         let bin = (pitch * BIN_PIXELS) as f32;
-        let polar: Vec<(f32, f32, f32)> = view
+        let returns: Vec<(f32, f32, f32)> = view
             .iter_valid()
-            .map(|(_, p, _)| polar(&in_sensor(p)))
-            .filter(|(_, _, r)| *r > 0.0)
+            .filter_map(|(_, p, _)| tangents(&in_sensor(p)))
             .collect();
-        if polar.is_empty() || bin.is_nan() || bin <= 0.0 {
+        if returns.is_empty() || bin.is_nan() || bin <= 0.0 {
             return None;
         }
-        let (mut az_lo, mut az_hi, mut el_lo, mut el_hi) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
-        for &(az, el, _) in &polar {
-            az_lo = az_lo.min(az);
-            az_hi = az_hi.max(az);
-            el_lo = el_lo.min(el);
-            el_hi = el_hi.max(el);
+        let (mut u_lo, mut u_hi, mut v_lo, mut v_hi) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
+        for &(u, v, _) in &returns {
+            u_lo = u_lo.min(u);
+            u_hi = u_hi.max(u);
+            v_lo = v_lo.min(v);
+            v_hi = v_hi.max(v);
         }
-        let cols = ((az_hi - az_lo) / bin).floor() as usize + 1;
-        let rows = ((el_hi - el_lo) / bin).floor() as usize + 1;
+        let cols = ((u_hi - u_lo) / bin).floor() as usize + 1;
+        let rows = ((v_hi - v_lo) / bin).floor() as usize + 1;
         let mut image = Self {
             to_sensor,
             bin,
-            az0: az_lo,
-            el0: el_lo,
+            u0: u_lo,
+            v0: v_lo,
             cols,
             rows,
             nearest: vec![f32::INFINITY; cols * rows],
-            bounds: Bounds::of(bin, az_lo, el_lo, cols, rows),
+            nearest_around: Vec::new(),
         };
-        for (az, el, r) in polar {
-            if let Some(i) = image.index(az, el) {
+        for (u, v, r) in returns {
+            if let Some((c, row)) = image.cell(u, v) {
+                let i = row * cols + c;
                 image.nearest[i] = image.nearest[i].min(r);
             }
         }
+        image.nearest_around = image.around();
         Some(image)
     }
 
-    /// A cheap test before the trigonometry: false only for sensor-frame points whose direction lies
-    /// outside the image's azimuths and elevations (with a bin's slack), most points of the other
-    /// views of a look.
-    fn may_hold(&self, q: &Point3<f32>) -> bool {
-        // Azimuth by the tangent where the image lies in front of the sensor (it always does for
-        // a camera narrower than a half turn); otherwise ask the trigonometry.
-        if let Some((lo, hi)) = self.bounds.azimuth
-            && (q.x <= 0.0 || q.y < q.x * lo || q.y > q.x * hi)
-        {
-            return false;
-        }
-        if let Some((lo, hi)) = self.bounds.elevation {
-            let h = q.x.hypot(q.y);
-            if q.z < h * lo || q.z > h * hi {
-                return false;
+    /// Per bin, the least of `nearest` over it and its neighbours (those inside the image).
+    fn around(&self) -> Vec<f32> {
+        let (cols, rows) = (self.cols, self.rows);
+        // Rows first, then columns: a 3 × 3 minimum as two passes of three.
+        let mut along = vec![f32::INFINITY; cols * rows];
+        for r in 0..rows {
+            let line = &self.nearest[r * cols..(r + 1) * cols];
+            for c in 0..cols {
+                let lo = c.saturating_sub(1);
+                let hi = (c + 1).min(cols - 1);
+                along[r * cols + c] = line[lo..=hi].iter().copied().fold(f32::INFINITY, f32::min);
             }
         }
-        true
+        let mut around = vec![f32::INFINITY; cols * rows];
+        for r in 0..rows {
+            let lo = r.saturating_sub(1);
+            let hi = (r + 1).min(rows - 1);
+            for c in 0..cols {
+                around[r * cols + c] = (lo..=hi)
+                    .map(|rr| along[rr * cols + c])
+                    .fold(f32::INFINITY, f32::min);
+            }
+        }
+        around
     }
 
-    fn cell(&self, az: f32, el: f32) -> Option<(usize, usize)> {
-        let c = ((az - self.az0) / self.bin).floor();
-        let r = ((el - self.el0) / self.bin).floor();
+    /// A cheap test: false for sensor-frame points whose direction lies outside the image (with a
+    /// bin's slack), most points of the other views of a look.
+    fn may_hold(&self, q: &Point3<f32>) -> bool {
+        if q.x <= MIN_DEPTH {
+            return false;
+        }
+        let (u, v) = (q.y / q.x, q.z / q.x);
+        let c = (u - self.u0) / self.bin;
+        let r = (v - self.v0) / self.bin;
+        c >= -1.0 && r >= -1.0 && c < self.cols as f32 + 1.0 && r < self.rows as f32 + 1.0
+    }
+
+    fn cell(&self, u: f32, v: f32) -> Option<(usize, usize)> {
+        let c = (u - self.u0) / self.bin;
+        let r = (v - self.v0) / self.bin;
+        // Truncation is the floor once both are known non-negative (and needs no libm call where
+        // the target has no rounding instruction); NaN fails the comparison.
         (c >= 0.0 && r >= 0.0 && (c as usize) < self.cols && (r as usize) < self.rows)
             .then_some((c as usize, r as usize))
-    }
-
-    fn index(&self, az: f32, el: f32) -> Option<usize> {
-        self.cell(az, el).map(|(c, r)| r * self.cols + c)
     }
 
     /// Whether this view looked through map point `p`: its bin and every neighbour with returns
     /// returned only from more than `margin` beyond it. A point outside the image, or in a bin
     /// without returns, was not seen through.
     fn looked_through(&self, p: &Point3<f32>, margin: f32) -> bool {
-        let q = self.to_sensor * p;
-        if !self.may_hold(&q) {
-            return false;
-        }
-        let (az, el, r) = polar(&q);
-        let Some((c, row)) = self.cell(az, el) else {
+        let Some((u, v, r)) = tangents(&(self.to_sensor * p)) else {
             return false;
         };
-        if !self.nearest[row * self.cols + c].is_finite() {
+        let Some((c, row)) = self.cell(u, v) else {
             return false;
-        }
-        let beyond = r + margin;
-        for rr in row.saturating_sub(1)..=(row + 1).min(self.rows - 1) {
-            for cc in c.saturating_sub(1)..=(c + 1).min(self.cols - 1) {
-                if self.nearest[rr * self.cols + cc] <= beyond {
-                    return false;
-                }
-            }
-        }
-        true
+        };
+        let i = row * self.cols + c;
+        self.nearest[i].is_finite() && self.nearest_around[i] > r + margin
     }
-}
-
-/// Azimuth, elevation and range of a sensor-frame point (x forward, y left, z up).
-fn polar(p: &Point3<f32>) -> (f32, f32, f32) {
-    let horizontal = p.x.hypot(p.y);
-    (p.y.atan2(p.x), p.z.atan2(horizontal), p.coords.norm())
 }
 
 /// A look's views, each as a range image, for asking which views looked through a place.

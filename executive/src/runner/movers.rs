@@ -257,7 +257,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// Keeps the obstacle memory in step with the grid between looks, after every frame of a look or
     /// a walk: an obstacle seen moving that the robot has not tested or moved (a person, or a person
     /// who stopped, to passive evidence the same as a suitcase left behind) is forgotten once no look
-    /// has shown it for [`super::config::GridSetup::mover_memory`] — where people are is known only
+    /// has shown it for [`super::config::GridSetup::mover_memory`], or as soon as the grid's frames
+    /// since the look that last showed it crossed its place and found nothing there
+    /// (`WorldModel::grid_saw_it_gone`) — where people are is known only
     /// while they are in view, and the grid's moving and movable cells still hold what it last saw
     /// there for the planner; any obstacle nobody tested, moved or
     /// found static, taller than the height below which the grid's free cells prove nothing, is
@@ -276,6 +278,19 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     .get(id)
                     .is_none_or(|t| now - t > memory)
         };
+        // Frames are stamped by the robot's clock, detections by the time let pass: the detection
+        // as a clock reading, that long before the clock's reading now.
+        let clock_now = self.robot.now();
+        let looked_gone = |p: &Prism| {
+            movers.contains(&p.id) && {
+                let since = self
+                    .world
+                    .last_detected
+                    .get(&p.id)
+                    .map_or(f64::NEG_INFINITY, |t| clock_now - (now - t));
+                self.world.grid_saw_it_gone(p, since)
+            }
+        };
         let untouched = |p: &Prism| {
             !self.world.settled.contains(&p.id)
                 && !self.world.movable.contains(&p.id)
@@ -287,6 +302,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .iter()
             .filter(|p| {
                 stale(&p.id)
+                    || looked_gone(p)
                     || (untouched(p) && p.z_max > proves_free_above && self.world.grid_sees_free(p))
             })
             .map(|p| p.id)
@@ -301,7 +317,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             stamp,
             LogLevel::Info,
             &format!(
-                "forgotten: {} (seen moving and out of sight too long, or the grid sees floor all over where they stood)",
+                "forgotten: {} (seen moving and out of sight too long or looked at and gone, or the grid sees floor all over where they stood)",
                 ids.join(", ")
             ),
         );

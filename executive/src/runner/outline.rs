@@ -71,6 +71,18 @@ impl WorldModel {
             return Vec::new();
         };
         let geometry = grid.geometry();
+        self.cells_overlapped(prism)
+            .into_iter()
+            .filter_map(|cell| Some((geometry.index(cell)?, grid.class(cell))))
+            .collect()
+    }
+
+    /// The grid cells `prism`'s footprint overlaps (empty without a grid).
+    fn cells_overlapped(&self, prism: &Prism) -> Vec<nudge_perception::grid::CellIndex> {
+        let Some(grid) = &self.grid else {
+            return Vec::new();
+        };
+        let geometry = grid.geometry();
         let half = geometry.resolution() / 2.0;
         let (lo, hi) = footprint_box(prism);
         let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
@@ -80,14 +92,31 @@ impl WorldModel {
         for y in a.y..=b.y {
             for x in a.x..=b.x {
                 let cell = nudge_perception::grid::CellIndex { x, y };
-                if super::grid::overlaps_cell(prism, geometry.centre(cell), half)
-                    && let Some(i) = geometry.index(cell)
-                {
-                    out.push((i, grid.class(cell)));
+                if super::grid::overlaps_cell(prism, geometry.centre(cell), half) {
+                    out.push(cell);
                 }
             }
         }
         out
+    }
+
+    /// Whether the grid's frames after `since` looked where `prism` stood and found it gone: their
+    /// rays crossed at least half of the cells its footprint overlaps, and none of those cells held a
+    /// return after `since`. A person who is still there returns the rays that reach them; one hidden
+    /// behind something is not crossed, and stays.
+    pub(super) fn grid_saw_it_gone(&self, prism: &Prism, since: f64) -> bool {
+        let Some(grid) = &self.grid else {
+            return false;
+        };
+        let cells = self.cells_overlapped(prism);
+        let after = |t: Option<f64>| t.is_some_and(|t| t > since);
+        let crossed = cells
+            .iter()
+            .filter(|c| after(grid.last_crossed(**c)))
+            .count();
+        !cells.is_empty()
+            && 2 * crossed >= cells.len()
+            && !cells.iter().any(|c| after(grid.last_hit(*c)))
     }
 
     /// The share of the grid cells whose centres `prism`'s footprint holds that the grid holds Free
@@ -221,6 +250,60 @@ mod tests {
         assert_eq!(
             WorldModel::default().free_share(&prism(1, 1.2, 0.7, 1.8, 1.3)),
             0.0
+        );
+    }
+
+    #[test]
+    fn a_place_looked_through_since_a_detection_with_no_return_there_is_gone() {
+        // Invariant: an obstacle counts as gone once frames after its detection crossed at least half of its cells and none returned from them; frames that return from it keep it, frames that never crossed it prove nothing, and frames before the detection do not count.
+        use nudge_perception::grid::RangeFrame;
+        let (_, _, mut grid) = room_4_by_2();
+        let person = prism(1, 2.0, 0.8, 2.4, 1.2);
+        // A fan of beams from (0.5, 1.0) across the person's place, to a wall at x = 3.9.
+        let scan = |hit_person: bool| {
+            let mut frame = RangeFrame::new(Point2::new(0.5, 1.0)).expect("a frame");
+            for k in -20..=20 {
+                let y = 1.0 + f64::from(k) * 0.02;
+                let x = if hit_person && (0.8..=1.2).contains(&y) {
+                    2.0
+                } else {
+                    3.9
+                };
+                frame.push_hit(Point2::new(x, y));
+            }
+            frame
+        };
+        grid.update(&scan(true), 1.0).expect("updated");
+        let world = |grid: &ObstacleGrid| WorldModel {
+            grid: Some(grid.clone()),
+            ..WorldModel::default()
+        };
+        assert!(
+            !world(&grid).grid_saw_it_gone(&person, 0.5),
+            "returned from"
+        );
+        assert!(
+            !world(&grid).grid_saw_it_gone(&person, 1.5),
+            "not looked at since"
+        );
+        let mut still_there = grid.clone();
+        still_there.update(&scan(true), 2.0).expect("updated");
+        assert!(
+            !world(&still_there).grid_saw_it_gone(&person, 1.5),
+            "still returns"
+        );
+        grid.update(&scan(false), 2.0).expect("updated");
+        assert!(
+            world(&grid).grid_saw_it_gone(&person, 1.5),
+            "looked through"
+        );
+        assert!(
+            !world(&grid).grid_saw_it_gone(&person, 0.5),
+            "the return at 1 s"
+        );
+        assert!(
+            !WorldModel::default().grid_saw_it_gone(&person, 1.5),
+            "no grid"
         );
     }
 }

@@ -56,6 +56,22 @@ impl ObstacleGrid {
         seen.is_finite().then_some(now - seen)
     }
 
+    /// Robot-clock stamp of the latest frame with a return in `cell` (something stood there at a
+    /// height the grid counts); `None` outside the grid or for a cell no frame returned from.
+    pub fn last_hit(&self, cell: CellIndex) -> Option<f64> {
+        let l = &self.layers;
+        let frame = l.track[self.idx(cell)?].hit_frame as usize;
+        l.stamps.get(frame).copied().filter(|t| t.is_finite())
+    }
+
+    /// Robot-clock stamp of the latest frame whose rays crossed `cell` (on their way to a return
+    /// beyond it, or to one in it); `None` outside the grid or for a cell no ray crossed.
+    pub fn last_crossed(&self, cell: CellIndex) -> Option<f64> {
+        let l = &self.layers;
+        let frame = l.visible.last_crossed(self.idx(cell)?) as usize;
+        l.stamps.get(frame).copied().filter(|t| t.is_finite())
+    }
+
     /// Whether `cell` was ever observed: crossed by a ray (however near its return), holding a
     /// return, or given a verdict — exactly when [`Self::age`] is `Some`. False outside the grid.
     pub fn observed(&self, cell: CellIndex) -> bool {
@@ -156,6 +172,14 @@ mod tests {
             assert_eq!(bit, seen, "{what}: cell {i}");
             assert_eq!(grid.observed(c), seen, "{what}: cell {i}");
             assert_eq!(grid.age(c, 1e6).is_some(), seen, "{what}: cell {i}");
+            // The latest return and the latest crossing are observations: never after the last one.
+            let last = grid.cell(c).and_then(|info| info.last_seen);
+            for t in [grid.last_hit(c), grid.last_crossed(c)]
+                .into_iter()
+                .flatten()
+            {
+                assert!(last.is_some_and(|l| l >= t), "{what}: cell {i}");
+            }
         }
         let words = grid.observed_words();
         assert_eq!(words.len(), geom.len().div_ceil(64));
@@ -170,7 +194,8 @@ mod tests {
     fn the_observed_bitset_is_exactly_the_cells_with_a_last_seen() {
         // Invariant: after any sequence of random scans (fans of every width and density, returns
         // and clear beams, blind zones, beams leaving the grid, sensors inside and outside it),
-        // push-test marks and moves, a cell's observed bit is set iff its `last_seen` is `Some`.
+        // push-test marks and moves, a cell's observed bit is set iff its `last_seen` is `Some`,
+        // and its latest return and latest crossing are never after its `last_seen`.
         let mut r = uniform(0x510e_527f_ade6_82d1_u64);
         for scene in 0..24 {
             let (w, h) = (40 + (r() * 200.0) as usize, 30 + (r() * 150.0) as usize);
