@@ -11,6 +11,7 @@ pub mod cli;
 pub mod generate;
 pub mod humanoid;
 pub mod metrics;
+pub mod replay;
 pub mod run;
 pub mod scenario;
 pub mod score;

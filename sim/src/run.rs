@@ -2,6 +2,7 @@
 
 use nalgebra::Point2;
 use nudge_executive::record::Observer;
+use nudge_executive::record::tape::{Tape, Taped};
 use nudge_executive::{CandidatePolicy, RunConfig, RunReport, Runner};
 use nudge_motion::RobotCylinder;
 
@@ -51,6 +52,27 @@ pub fn runner<O: Observer>(
     observer: O,
 ) -> Result<Runner<SimRobot, O>, WorldError> {
     let robot = SimRobot::new(scenario, seed)?;
+    Ok(Runner::new(
+        robot,
+        observer,
+        run_config(scenario, seed, policy),
+    ))
+}
+
+/// A scenario's runner in the simulation with its robot wrapped in [`Taped`]: every adapter call
+/// goes onto `tape` when there is one (`nudge run --record`), and is only forwarded otherwise.
+pub fn taped_runner<O: Observer>(
+    scenario: &Scenario,
+    seed: u64,
+    policy: CandidatePolicy,
+    observer: O,
+    tape: Option<Tape>,
+) -> Result<Runner<Taped<SimRobot>, O>, WorldError> {
+    let robot = SimRobot::new(scenario, seed)?;
+    let robot = match tape {
+        Some(tape) => Taped::new(robot, tape),
+        None => Taped::untaped(robot),
+    };
     Ok(Runner::new(
         robot,
         observer,

@@ -21,6 +21,7 @@ use nudge_perception::{ColourCloud, ObjectId, Prism};
 use super::messages;
 use super::observer::{GridView, LogLevel, Observer, RobotFrames};
 use super::summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
+use super::tape::{TAPE_ENCODING, TAPE_TOPIC, Tape};
 use crate::machine::Edge;
 use crate::push_test::{PushEvidence, PushIntent, Verdict};
 use crate::robot::Wrench;
@@ -46,6 +47,9 @@ pub mod topics {
     pub const LOG: &str = "/executive/log";
     /// Wrist wrench (JSON: force and torque vectors, wrist frame).
     pub const WRENCH: &str = "/wrist/wrench";
+    /// The replay tape (`nudge.tape/1`, no schema): every adapter call and its result, in batches
+    /// (see [`crate::record::tape`]).
+    pub const TAPE: &str = super::TAPE_TOPIC;
 }
 
 /// Why recording failed.
@@ -93,6 +97,7 @@ pub struct McapRecorder<W: Write + Seek = BufWriter<File>> {
     channels: BTreeMap<&'static str, u16>,
     sequence: u32,
     error: Option<RecordError>,
+    tape: Option<Tape>,
 }
 
 impl McapRecorder<BufWriter<File>> {
@@ -139,7 +144,26 @@ impl<W: Write + Seek> McapRecorder<W> {
             channels: BTreeMap::new(),
             sequence: 0,
             error: None,
+            tape: None,
         })
+    }
+
+    /// Starts recording a replay tape: wrap the robot in a [`super::tape::Taped`] writing onto the
+    /// tape returned. The recorder puts the executive's transitions on it and writes what waits on
+    /// it to [`topics::TAPE`] at each observer call (about once a tick), before its summary, and
+    /// when it is finished or dropped.
+    pub fn start_tape(&mut self) -> Tape {
+        let tape = Tape::new();
+        self.tape = Some(tape.clone());
+        tape
+    }
+
+    /// Writes the tape's waiting entries as one message, stamped with the robot time they began at.
+    fn drain_tape(&mut self) {
+        let Some((stamp, bytes)) = self.tape.as_ref().and_then(Tape::take) else {
+            return;
+        };
+        self.write_raw(topics::TAPE, stamp, "", "", &[], TAPE_ENCODING, &bytes);
     }
 
     /// The first error met while recording, if any (recording stopped there).
@@ -151,6 +175,7 @@ impl<W: Write + Seek> McapRecorder<W> {
     /// [`RUN_SUMMARY_LOG`]) at `stamp`, and a metadata record named [`SUMMARY_METADATA`].
     /// Call it once, after the run and before [`McapRecorder::finish`].
     pub fn write_summary(&mut self, stamp: f64, summary: &RunSummary) {
+        self.drain_tape();
         self.log(stamp, Level::Info, RUN_SUMMARY_LOG, summary.line());
         let Some(writer) = self.writer.as_mut() else {
             return;
@@ -166,6 +191,7 @@ impl<W: Write + Seek> McapRecorder<W> {
 
     /// Writes the summary section and footer and returns the sink.
     pub fn finish(mut self) -> Result<W, RecordError> {
+        self.drain_tape();
         if let Some(e) = self.error.take() {
             return Err(e);
         }
@@ -219,7 +245,12 @@ impl<W: Write + Seek> McapRecorder<W> {
             let channel_id = match self.channels.get(topic) {
                 Some(&id) => id,
                 None => {
-                    let schema_id = writer.add_schema(schema_name, schema_encoding, schema)?;
+                    // No schema name: a channel without a schema (id 0), as the tape's.
+                    let schema_id = if schema_name.is_empty() {
+                        0
+                    } else {
+                        writer.add_schema(schema_name, schema_encoding, schema)?
+                    };
                     let id =
                         writer.add_channel(schema_id, topic, message_encoding, &BTreeMap::new())?;
                     self.channels.insert(topic, id);
@@ -268,8 +299,20 @@ impl<W: Write + Seek> McapRecorder<W> {
 
 const WRENCH_SCHEMA: &str = r#"{"type":"object","properties":{"force":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"torque":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"force_norm":{"type":"number"}}}"#;
 
+/// A recorder dropped without [`McapRecorder::finish`] (a failed or cancelled run) still writes
+/// what waits on its tape; the writer then finishes the file as it drops.
+impl<W: Write + Seek> Drop for McapRecorder<W> {
+    fn drop(&mut self) {
+        self.drain_tape();
+    }
+}
+
 impl<W: Write + Seek> Observer for McapRecorder<W> {
     fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
+        if let Some(tape) = &mut self.tape {
+            tape.transition(stamp, from, edge, to);
+        }
+        self.drain_tape();
         let from = from.map_or("(start)", State::name);
         let text = format!("{from} -> {} ({edge:?})", to.name());
         self.log(stamp, Level::Info, "executive", text);
@@ -296,6 +339,7 @@ impl<W: Write + Seek> Observer for McapRecorder<W> {
     }
 
     fn cloud(&mut self, cloud: &ColourCloud) {
+        self.drain_tape();
         self.write(topics::CLOUD, cloud.stamp(), &messages::point_cloud(cloud));
     }
 
@@ -323,6 +367,7 @@ impl<W: Write + Seek> Observer for McapRecorder<W> {
     }
 
     fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
+        self.drain_tape();
         let b = frames.base;
         let base = Isometry3::from_parts(
             Translation3::new(b.translation.x, b.translation.y, 0.0),

@@ -4,7 +4,9 @@ mod mcap_recorder;
 mod messages;
 mod observer;
 mod summary;
+pub mod tape;
 
 pub use mcap_recorder::{McapRecorder, RecordError, RunInfo, topics};
 pub use observer::{GridView, LogLevel, NullObserver, Observer, RobotFrames};
 pub use summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
+pub use tape::TAPE_TOPIC;

@@ -1,4 +1,5 @@
-//! Command-line interface: `nudge run`, `check`, `batch`, `report`, `inspect` and `generate`. It lives
+//! Command-line interface: `nudge run`, `check`, `batch`, `report`, `inspect`, `replay` and
+//! `generate`. It lives
 //! in the library so that harnesses (the argument fuzzer in `examples/fuzz_cli.rs`) parse and
 //! dispatch exactly what the `nudge` binary does.
 
@@ -8,6 +9,7 @@ mod generate;
 mod inspect;
 mod map;
 mod pool;
+mod replay;
 mod report;
 mod results;
 mod run;
@@ -30,6 +32,8 @@ pub const EXIT_NO_PATH: u8 = 3;
 pub const EXIT_ABORTED: u8 = 4;
 /// Exit code: `nudge check` found a scenario that did not meet its `[expect]` block.
 pub const EXIT_FAILED: u8 = 5;
+/// Exit code: `nudge replay` found the new run parting from the recorded one.
+pub const EXIT_DIVERGED: u8 = 6;
 
 /// nudge: a humanoid reaches a goal among unknown obstacles, pushing them to learn which move.
 #[derive(Parser, Debug)]
@@ -52,6 +56,10 @@ enum Command {
     Report(ReportArgs),
     /// Show what an MCAP recording holds: topics, counts, time span, metadata, the run's summary.
     Inspect(InspectArgs),
+    /// Run the current executive on a recording's inputs (its /nudge/tape) and report whether every
+    /// call and transition matches. Exit 0: match; 6: the run parted from the recording (the first
+    /// divergence is printed); 1: the file is missing, not MCAP, truncated, corrupt or has no tape.
+    Replay(ReplayArgs),
     /// Write generated scenarios of one or more families, each with an [expect] block right by
     /// construction (checked against the true world).
     Generate(GenerateArgs),
@@ -193,6 +201,18 @@ struct InspectArgs {
     file: PathBuf,
 }
 
+#[derive(clap::Args, Debug)]
+struct ReplayArgs {
+    /// A recording made by `nudge run --record`.
+    #[arg(value_name = "FILE.mcap")]
+    file: PathBuf,
+    /// Change one executive setting before replaying (repeatable), to see where the change parts
+    /// from the recorded run. Keys: force_limit (N, the push test's), clear_force_limit (N),
+    /// push_speed (m/s), max_push_tests.
+    #[arg(long, value_name = "KEY=VALUE")]
+    set: Vec<crate::replay::Setting>,
+}
+
 /// Part `index` of `count` of a batch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
@@ -245,6 +265,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
         Some(Command::Batch(args)) => batch::batch(args),
         Some(Command::Report(args)) => report::report(args),
         Some(Command::Inspect(args)) => inspect::inspect(args),
+        Some(Command::Replay(args)) => replay::replay(args),
         Some(Command::Generate(args)) => generate::generate(args),
         None => run::run(RunArgs::default()),
     }

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-use crate::run::runner;
+use crate::run::taped_runner;
 use anyhow::Context;
 use nudge_executive::record::{McapRecorder, RunInfo, RunSummary};
 use nudge_executive::{CandidatePolicy, RunReport, State};
@@ -26,7 +26,7 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     };
     let seed = args.seed.unwrap_or(scenario.seed);
     let policy: CandidatePolicy = args.policy.map(Into::into).unwrap_or_default();
-    let recorder = match &args.record {
+    let mut recorder = match &args.record {
         Some(path) => {
             let info = RunInfo {
                 scenario: scenario.name.clone(),
@@ -53,7 +53,9 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         None => None,
     };
     let map = map_file.as_ref().map(|_| MapCollector::new(&scenario));
-    let mut runner = runner(&scenario, seed, policy, (printer, (recorder, map)))?;
+    // A recording carries the replay tape: every adapter call and its result (`nudge replay`).
+    let tape = recorder.as_mut().map(McapRecorder::start_tape);
+    let mut runner = taped_runner(&scenario, seed, policy, (printer, (recorder, map)), tape)?;
     let cancel = runner.cancel_flag();
     // Ctrl-C cancels the run safely (the arm retracts, the recording is finished); a second one is
     // the operating system's.
@@ -62,6 +64,7 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let report = runner.run();
     let wall = started.elapsed().as_secs_f64();
     let (robot, (_, (recorder, map))) = runner.into_parts();
+    let robot = robot.into_inner();
     // Contacts with people, from the simulation's truth, where the scenario has people.
     let people = (!robot.world().actors().is_empty()).then(|| {
         let effort = robot.world().effort();
