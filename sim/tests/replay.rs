@@ -215,6 +215,82 @@ fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
     }
 }
 
+/// The offsets and record lengths of `file`'s chunk records (opcode 0x06), walking its records from
+/// the header on; stops at the footer or at anything that does not parse.
+fn chunk_records(file: &[u8]) -> Vec<(usize, usize)> {
+    let mut chunks = Vec::new();
+    let mut at = mcap::MAGIC.len();
+    while at + 9 <= file.len() {
+        let opcode = file[at];
+        let len = u64::from_le_bytes(file[at + 1..at + 9].try_into().expect("8 bytes")) as usize;
+        match opcode {
+            0x02 => break,
+            0x06 => chunks.push((at, len)),
+            _ => {}
+        }
+        at = at.saturating_add(9).saturating_add(len);
+    }
+    chunks
+}
+
+#[test]
+fn twenty_one_kinds_of_damage_are_each_a_clean_error() {
+    // Invariant: a recording emptied, cut short anywhere (in its header, its chunks, before its footer, in its closing magic), with a wrong magic, with a chunk's length or uncompressed size claiming exabytes, with chunk data zeroed, a chunk CRC that does not match or an unknown compression, makes `nudge replay` and `nudge inspect` exit 1 naming the file, never a panic or an abort — with the seven kinds of the test above, twenty-one in all.
+    let full = std::fs::read(recording()).expect("recording");
+    let chunks = chunk_records(&full);
+    assert!(chunks.len() >= 2, "a recording of several chunks");
+    let (first, first_len) = chunks[0];
+    let (last, last_len) = chunks[chunks.len() - 1];
+    // A chunk record: opcode, length, then start and end times, uncompressed size, CRC, compression.
+    let size_at = first + 9 + 16;
+    let crc_at = first + 9 + 24;
+    let compression_at = first + 9 + 28 + 4;
+    let with = |at: usize, bytes: &[u8]| {
+        let mut f = full.clone();
+        f[at..at + bytes.len()].copy_from_slice(bytes);
+        f
+    };
+    let zeroed = |at: usize| with(at, &[0; 64]);
+    let crc = u32::from_le_bytes(full[crc_at..crc_at + 4].try_into().expect("4 bytes"));
+    assert_ne!(crc, 0, "the writer computes chunk CRCs");
+    let n = full.len();
+    let cases: Vec<(&str, Vec<u8>)> = vec![
+        ("empty", Vec::new()),
+        ("magic-only", full[..8].to_vec()),
+        ("wrong-magic", with(1, b"X")),
+        ("header-cut", full[..20].to_vec()),
+        ("cut-at-a-tenth", full[..n / 10].to_vec()),
+        ("cut-at-nine-tenths", full[..9 * n / 10].to_vec()),
+        ("last-byte-cut", full[..n - 1].to_vec()),
+        ("closing-magic-cut", full[..n - 8].to_vec()),
+        (
+            "chunk-size-huge",
+            with(size_at, &(1u64 << 62).to_le_bytes()),
+        ),
+        (
+            "chunk-length-huge",
+            with(first + 1, &(1u64 << 62).to_le_bytes()),
+        ),
+        ("first-chunk-zeroed", zeroed(first + 9 + first_len / 2)),
+        ("last-chunk-zeroed", zeroed(last + 9 + last_len / 2)),
+        ("chunk-crc-wrong", with(crc_at, &(crc ^ 1).to_le_bytes())),
+        ("compression-unknown", with(compression_at, b"zzzz")),
+    ];
+    for (name, bytes) in cases {
+        let path = scratch(&format!("{name}.mcap"));
+        std::fs::write(&path, bytes).expect("write");
+        let shown = path.display().to_string();
+        for command in ["replay", "inspect"] {
+            let out = nudge(&[command, path.to_str().expect("utf-8")]);
+            let stderr = text(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{command} {name}: {stderr}");
+            assert!(!stderr.contains("panicked"), "{command} {name}: {stderr}");
+            assert!(stderr.contains(&shown), "{command} {name}: {stderr}");
+        }
+        assert!(replay_file(&path, &[]).is_err(), "{name}: the library too");
+    }
+}
+
 #[test]
 #[ignore = "records and replays every shipped scenario (minutes); run with --ignored"]
 fn every_shipped_scenario_replays_to_a_match() {

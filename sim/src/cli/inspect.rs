@@ -37,7 +37,9 @@ pub fn read(bytes: &[u8]) -> anyhow::Result<Contents> {
     if !bytes.starts_with(mcap::MAGIC) {
         bail!("not an MCAP file (no MCAP magic at the start)");
     }
-    let records = mcap::read::ChunkFlattener::new(bytes).context("not an MCAP file")?;
+    // Read with a record length limit and chunk CRCs checked: a damaged length field is where the
+    // file breaks, not an allocation of what it claims.
+    let records = nudge_executive::record::mcap_records(bytes);
     let mut c = Contents::default();
     for record in records {
         let record = match record {

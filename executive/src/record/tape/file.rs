@@ -70,59 +70,13 @@ pub enum RecordingError {
     },
 }
 
-/// The largest record (a chunk decompressed included) read (bytes): a damaged length field must
-/// be an error, not an allocation of exabytes. Chunks of a nudge recording are a few MiB at most.
-pub const RECORD_LENGTH_LIMIT: usize = 256 << 20;
-
-/// Every record of an MCAP file in file order, chunks unpacked and their CRCs checked, no record
-/// longer than [`RECORD_LENGTH_LIMIT`]. (`mcap::read::ChunkFlattener` sets no length limit: a
-/// damaged chunk header made it try to allocate 3.9 EB and abort the process.)
-struct Records<'a> {
-    buf: &'a [u8],
-    reader: mcap::sans_io::LinearReader,
-}
-
-impl<'a> Records<'a> {
-    fn new(buf: &'a [u8]) -> Self {
-        let options = mcap::sans_io::LinearReaderOptions::default()
-            .with_record_length_limit(RECORD_LENGTH_LIMIT)
-            .with_validate_chunk_crcs(true);
-        Self {
-            buf,
-            reader: mcap::sans_io::LinearReader::new_with_options(options),
-        }
-    }
-}
-
-impl Iterator for Records<'_> {
-    type Item = Result<Record<'static>, mcap::McapError>;
-
-    fn next(&mut self) -> Option<Self::Item> {
-        while let Some(event) = self.reader.next_event() {
-            match event {
-                Ok(mcap::sans_io::LinearReadEvent::ReadRequest(need)) => {
-                    let len = need.min(self.buf.len());
-                    self.reader.insert(len).copy_from_slice(&self.buf[..len]);
-                    self.reader.notify_read(len);
-                    self.buf = &self.buf[len..];
-                }
-                Ok(mcap::sans_io::LinearReadEvent::Record { data, opcode }) => {
-                    return Some(mcap::parse_record(opcode, data).map(Record::into_owned));
-                }
-                Err(e) => return Some(Err(e)),
-            }
-        }
-        None
-    }
-}
-
 /// Reads the tape, the run's metadata and the scenario from a whole MCAP file's bytes. Never panics:
 /// anything but a complete recording with a readable tape is an error saying what is wrong.
 pub fn read_recording(bytes: &[u8]) -> Result<Recording, RecordingError> {
     if !bytes.starts_with(mcap::MAGIC) {
         return Err(RecordingError::NotMcap);
     }
-    let records = Records::new(bytes);
+    let records = crate::record::mcap_records(bytes);
     let mut recording = Recording::default();
     // Channel id → its message encoding, for the tape's channels.
     let mut tape_channels: BTreeMap<u16, String> = BTreeMap::new();
