@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
 
-use nudge_executive::record::{RUN_METADATA, SUMMARY_METADATA, topics};
+use nudge_executive::record::{RUN_METADATA, SUMMARY_METADATA, TAPE_TOPIC, WristWrench, topics};
+use prost::Message as _;
 
 mod python_mcap;
 
@@ -63,6 +64,10 @@ struct Read {
     metadata: BTreeMap<String, BTreeMap<String, String>>,
     attachments: BTreeMap<String, Vec<u8>>,
     logs: Vec<Vec<u8>>,
+    /// Message encoding per topic.
+    encodings: BTreeMap<String, String>,
+    /// The wrist wrench's largest force norm, decoded with the crate's own message type.
+    wrench_peak: f64,
 }
 
 fn read(path: &Path) -> Read {
@@ -77,6 +82,8 @@ fn read(path: &Path) -> Read {
         metadata: BTreeMap::new(),
         attachments: BTreeMap::new(),
         logs: Vec::new(),
+        encodings: BTreeMap::new(),
+        wrench_peak: 0.0,
     };
     for message in mcap::MessageStream::new(&bytes).expect("starts with MCAP magic") {
         let message = message.expect("every message reads");
@@ -88,6 +95,12 @@ fn read(path: &Path) -> Read {
             .entry(topic.clone())
             .or_default()
             .push(message.log_time);
+        r.encodings
+            .insert(topic.clone(), message.channel.message_encoding.clone());
+        if topic == topics::WRENCH {
+            let w = WristWrench::decode(message.data.as_ref()).expect("a nudge.WristWrench");
+            r.wrench_peak = r.wrench_peak.max(w.force_norm);
+        }
         if topic == topics::LOG {
             r.logs.push(message.data.into_owned());
         }
@@ -125,7 +138,7 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
         (topics::PUSH, "foxglove.SceneUpdate"),
         (topics::TF, "foxglove.FrameTransform"),
         (topics::LOG, "foxglove.Log"),
-        (topics::WRENCH, "nudge.Wrench"),
+        (topics::WRENCH, "nudge.WristWrench"),
     ];
     for (topic, schema) in expected {
         assert!(
@@ -293,7 +306,7 @@ fn a_truncated_recording_is_reported_not_panicked_on() {
 
 #[test]
 fn the_python_mcap_package_reads_the_recording() {
-    // Invariant: the official Python reader sees the same topics, counts, time span, metadata and attachment as the mcap crate.
+    // Invariant: the official Python reader sees the same topics, counts, time span, metadata and attachment as the mcap crate, and its protobuf decoders decode every protobuf message of every topic (the wrench's peak the same as the crate's own decoding).
     let rec = recording();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/read_mcap.py");
     let python = python_mcap::python();
@@ -321,6 +334,22 @@ fn the_python_mcap_package_reads_the_recording() {
         py["counts"].as_object().map(|o| o.len()),
         Some(r.counts.len())
     );
+    // Every protobuf message of every topic decodes with the protobuf decoders (the tape is
+    // nudge's own binary format, with no schema: `nudge replay` reads it).
+    for (topic, encoding) in &r.encodings {
+        let decoded = py["decoded"][topic].as_u64().unwrap_or(0);
+        if encoding == "protobuf" {
+            assert_eq!(decoded, r.counts[topic], "{topic} decoded");
+        } else {
+            assert_eq!(topic, TAPE_TOPIC, "{topic}: {encoding}");
+        }
+    }
+    assert!(
+        r.wrench_peak > 10.0,
+        "the push tests press: {}",
+        r.wrench_peak
+    );
+    assert_eq!(py["wrench_peak"].as_f64(), Some(r.wrench_peak));
     assert_eq!(py["end"].as_u64(), Some(robot_time_ns(&r)));
     assert_eq!(py["metadata"][RUN_METADATA]["scenario"], "kakiuchi-room");
     assert_eq!(py["metadata"][SUMMARY_METADATA]["outcome"], "Goal");

@@ -17,11 +17,13 @@ use foxglove::messages::log::Level;
 use mcap::records::{MessageHeader, Metadata};
 use nalgebra::{Isometry3, Point2, Translation3, UnitQuaternion, Vector2};
 use nudge_perception::{ColourCloud, ObjectId, Prism};
+use prost::Message as _;
 
 use super::messages;
 use super::observer::{GridView, LogLevel, Observer, RobotFrames};
 use super::summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
 use super::tape::{TAPE_ENCODING, TAPE_TOPIC, Tape};
+use super::wrench_message::{WRIST_WRENCH_SCHEMA, WristWrench, wrist_wrench_schema};
 use crate::machine::Edge;
 use crate::push_test::{PushEvidence, PushIntent, Verdict};
 use crate::robot::Wrench;
@@ -45,7 +47,8 @@ pub mod topics {
     pub const TF: &str = "/tf";
     /// Executive transitions, verdicts and notes (`foxglove.Log`).
     pub const LOG: &str = "/executive/log";
-    /// Wrist wrench (JSON: force and torque vectors, wrist frame).
+    /// Wrist wrench (protobuf `nudge.WristWrench`: force and torque, wrist frame, and the force's
+    /// norm).
     pub const WRENCH: &str = "/wrist/wrench";
     /// The replay tape (`nudge.tape/1`, no schema): every adapter call and its result, in batches
     /// (see [`crate::record::tape`]).
@@ -297,8 +300,6 @@ impl<W: Write + Seek> McapRecorder<W> {
     }
 }
 
-const WRENCH_SCHEMA: &str = r#"{"type":"object","properties":{"force":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"torque":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"}}},"force_norm":{"type":"number"}}}"#;
-
 /// A recorder dropped without [`McapRecorder::finish`] (a failed or cancelled run) still writes
 /// what waits on its tape; the writer then finishes the file as it drops.
 impl<W: Write + Seek> Drop for McapRecorder<W> {
@@ -396,25 +397,21 @@ impl<W: Write + Seek> Observer for McapRecorder<W> {
     }
 
     fn wrench(&mut self, stamp: f64, wrench: &Wrench) {
-        let (f, t) = (wrench.force, wrench.torque);
-        let json = format!(
-            r#"{{"force":{{"x":{},"y":{},"z":{}}},"torque":{{"x":{},"y":{},"z":{}}},"force_norm":{}}}"#,
-            f.x,
-            f.y,
-            f.z,
-            t.x,
-            t.y,
-            t.z,
-            f.norm()
-        );
+        let message = WristWrench::from(wrench).encode_to_vec();
+        // The schema goes into the file once, with the channel.
+        let schema = if self.channels.contains_key(topics::WRENCH) {
+            Vec::new()
+        } else {
+            wrist_wrench_schema()
+        };
         self.write_raw(
             topics::WRENCH,
             stamp,
-            "nudge.Wrench",
-            "jsonschema",
-            WRENCH_SCHEMA.as_bytes(),
-            "json",
-            json.as_bytes(),
+            WRIST_WRENCH_SCHEMA,
+            "protobuf",
+            &schema,
+            "protobuf",
+            &message,
         );
     }
 

@@ -6,9 +6,11 @@ mod messages;
 mod observer;
 mod summary;
 pub mod tape;
+mod wrench_message;
 
 pub use mcap_recorder::{McapRecorder, RecordError, RunInfo, topics};
 pub use mcap_records::{RECORD_LENGTH_LIMIT, Records, mcap_records};
 pub use observer::{GridView, LogLevel, NullObserver, Observer, RobotFrames};
 pub use summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
 pub use tape::TAPE_TOPIC;
+pub use wrench_message::{Vector3, WRIST_WRENCH_SCHEMA, WristWrench, wrist_wrench_schema};
