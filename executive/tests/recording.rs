@@ -158,3 +158,61 @@ fn a_dropped_recorder_still_leaves_a_complete_file() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A sink that takes `room` bytes and then fails every write: a disk that fills up.
+#[derive(Debug)]
+struct FillingDisk {
+    inner: Cursor<Vec<u8>>,
+    room: usize,
+}
+
+impl std::io::Write for FillingDisk {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.inner.get_ref().len() + buf.len() > self.room {
+            return Err(std::io::Error::other("no space left on the device"));
+        }
+        std::io::Write::write(&mut self.inner, buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl std::io::Seek for FillingDisk {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        self.inner.seek(pos)
+    }
+}
+
+#[test]
+fn a_disk_that_fills_up_ends_the_recording_with_its_error_not_the_run() {
+    // Invariant: when the sink fails part way (the writer thread meets the I/O error), every observer call still returns normally and finish reports the writer's error; with room enough the same calls give the same bytes as an unbounded sink.
+    let sink = FillingDisk {
+        inner: Cursor::new(Vec::new()),
+        room: 600,
+    };
+    let mut rec = McapRecorder::new(sink, &info()).expect("the header fits");
+    for k in 0..2_000 {
+        rec.wrench(
+            f64::from(k) * 1e-3,
+            &Wrench {
+                force: Vector3::new(-3.0, 0.0, f64::from(k)),
+                torque: Vector3::zeros(),
+            },
+        );
+    }
+    observe(&mut rec);
+    let err = rec.finish().expect_err("the disk filled up");
+    assert!(
+        matches!(err, nudge_executive::record::RecordError::Mcap(_)),
+        "the writer's I/O error: {err}"
+    );
+    let roomy = FillingDisk {
+        inner: Cursor::new(Vec::new()),
+        room: usize::MAX,
+    };
+    let mut rec = McapRecorder::new(roomy, &info()).expect("recorder");
+    observe(&mut rec);
+    assert_eq!(rec.finish().expect("finish").inner.into_inner(), record());
+}

@@ -2,11 +2,12 @@
 //!
 //! Written with the `mcap` crate and the protobuf message types of the `foxglove` crate. Nothing in a
 //! recording comes from the wall clock, so the same scenario and seed give the same file byte for
-//! byte. The writer finishes the file (summary, footer) when the recorder is finished or dropped, so a
-//! failed or cancelled run still leaves a complete file; an I/O error stops recording, is kept, and
-//! never stops the run.
+//! byte. Messages are encoded in the run's thread and compressed and written by a writer thread
+//! (`writer_thread.rs`), in the same order. The writer finishes the file (summary, footer) when the
+//! recorder is finished or dropped, so a failed or cancelled run still leaves a complete file; an
+//! I/O error stops recording, is kept, and never stops the run.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fs::File;
 use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
@@ -24,6 +25,7 @@ use super::observer::{GridView, LogLevel, Observer, RobotFrames};
 use super::summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
 use super::tape::{TAPE_ENCODING, TAPE_TOPIC, Tape};
 use super::wrench_message::{WRIST_WRENCH_SCHEMA, WristWrench, wrist_wrench_schema};
+use super::writer_thread::{Channel, WriterThread};
 use crate::machine::Edge;
 use crate::push_test::{PushEvidence, PushIntent, Verdict};
 use crate::robot::Wrench;
@@ -69,6 +71,9 @@ pub enum RecordError {
     /// The MCAP writer failed.
     #[error("recording failed: {0}")]
     Mcap(#[from] mcap::McapError),
+    /// The writer thread could not be started, or stopped without a word.
+    #[error("recording failed: {0}")]
+    Writer(String),
     /// A message could not be encoded.
     #[error("cannot encode a {topic} message: {reason}")]
     Encode {
@@ -95,9 +100,10 @@ pub struct RunInfo {
 }
 
 /// An [`Observer`] that writes an MCAP file.
-pub struct McapRecorder<W: Write + Seek = BufWriter<File>> {
-    writer: Option<mcap::Writer<W>>,
-    channels: BTreeMap<&'static str, u16>,
+pub struct McapRecorder<W: Write + Seek + Send + 'static = BufWriter<File>> {
+    writer: Option<WriterThread<W>>,
+    /// Topics whose channel the writer has been given.
+    announced: BTreeSet<&'static str>,
     sequence: u32,
     error: Option<RecordError>,
     tape: Option<Tape>,
@@ -114,7 +120,7 @@ impl McapRecorder<BufWriter<File>> {
     }
 }
 
-impl<W: Write + Seek> McapRecorder<W> {
+impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
     /// Starts recording into `sink`, writing the run's metadata and the scenario attachment first.
     pub fn new(sink: W, info: &RunInfo) -> Result<Self, RecordError> {
         let mut writer = mcap::WriteOptions::new()
@@ -143,8 +149,8 @@ impl<W: Write + Seek> McapRecorder<W> {
             })?;
         }
         Ok(Self {
-            writer: Some(writer),
-            channels: BTreeMap::new(),
+            writer: Some(WriterThread::spawn(writer)?),
+            announced: BTreeSet::new(),
             sequence: 0,
             error: None,
             tape: None,
@@ -166,10 +172,17 @@ impl<W: Write + Seek> McapRecorder<W> {
         let Some((stamp, bytes)) = self.tape.as_ref().and_then(Tape::take) else {
             return;
         };
-        self.write_raw(topics::TAPE, stamp, "", "", &[], TAPE_ENCODING, &bytes);
+        let channel = || Channel {
+            schema_name: String::new(),
+            schema_encoding: String::new(),
+            schema: Vec::new(),
+            message_encoding: TAPE_ENCODING.into(),
+        };
+        self.write_raw(topics::TAPE, stamp, channel, bytes);
     }
 
-    /// The first error met while recording, if any (recording stopped there).
+    /// The first error met while encoding, if any (recording stopped there). An error of the
+    /// writer thread (an I/O error) comes from [`McapRecorder::finish`].
     pub fn error(&self) -> Option<&RecordError> {
         self.error.as_ref()
     }
@@ -180,30 +193,31 @@ impl<W: Write + Seek> McapRecorder<W> {
     pub fn write_summary(&mut self, stamp: f64, summary: &RunSummary) {
         self.drain_tape();
         self.log(stamp, Level::Info, RUN_SUMMARY_LOG, summary.line());
-        let Some(writer) = self.writer.as_mut() else {
-            return;
-        };
-        let result = writer.write_metadata(&Metadata {
+        let metadata = Metadata {
             name: SUMMARY_METADATA.into(),
             metadata: summary.entries(),
-        });
-        if let Err(e) = result {
-            self.fail(e.into());
+        };
+        // A writer that stopped has its error ready for `finish`.
+        if let Some(writer) = self.writer.as_mut() {
+            writer.metadata(metadata);
         }
     }
 
-    /// Writes the summary section and footer and returns the sink.
+    /// Writes the summary section and footer and returns the sink (once the writer thread has
+    /// written everything), or the first error met while recording.
     pub fn finish(mut self) -> Result<W, RecordError> {
         self.drain_tape();
+        let writer = self.writer.take();
         if let Some(e) = self.error.take() {
+            // Dropping the writer finishes what it holds.
+            drop(writer);
             return Err(e);
         }
-        let mut writer = self.writer.take().ok_or(RecordError::Encode {
+        let mut writer = writer.ok_or(RecordError::Encode {
             topic: "",
             reason: "recorder already finished".into(),
         })?;
-        writer.finish()?;
-        Ok(writer.into_inner())
+        writer.finish()
     }
 
     /// Writes a Foxglove message, registering its schema and channel on first use.
@@ -216,65 +230,43 @@ impl<W: Write + Seek> McapRecorder<W> {
             });
             return;
         }
-        let (name, encoding, schema) = M::get_schema()
-            .map(|s| (s.name, s.encoding, s.data.into_owned()))
-            .unwrap_or_default();
-        self.write_raw(
-            topic,
-            stamp,
-            &name,
-            &encoding,
-            &schema,
-            &M::get_message_encoding(),
-            &data,
-        );
+        let channel = || {
+            let (schema_name, schema_encoding, schema) = M::get_schema()
+                .map(|s| (s.name, s.encoding, s.data.into_owned()))
+                .unwrap_or_default();
+            Channel {
+                schema_name,
+                schema_encoding,
+                schema,
+                message_encoding: M::get_message_encoding(),
+            }
+        };
+        self.write_raw(topic, stamp, channel, data);
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// Hands a message to the writer, with its channel (made by `channel`) on the topic's first.
     fn write_raw(
         &mut self,
         topic: &'static str,
         stamp: f64,
-        schema_name: &str,
-        schema_encoding: &str,
-        schema: &[u8],
-        message_encoding: &str,
-        data: &[u8],
+        channel: impl FnOnce() -> Channel,
+        data: Vec<u8>,
     ) {
         let Some(writer) = self.writer.as_mut() else {
             return;
         };
-        let result = (|| {
-            let channel_id = match self.channels.get(topic) {
-                Some(&id) => id,
-                None => {
-                    // No schema name: a channel without a schema (id 0), as the tape's.
-                    let schema_id = if schema_name.is_empty() {
-                        0
-                    } else {
-                        writer.add_schema(schema_name, schema_encoding, schema)?
-                    };
-                    let id =
-                        writer.add_channel(schema_id, topic, message_encoding, &BTreeMap::new())?;
-                    self.channels.insert(topic, id);
-                    id
-                }
-            };
-            let time = messages::nanos(stamp);
-            writer.write_to_known_channel(
-                &MessageHeader {
-                    channel_id,
-                    sequence: self.sequence,
-                    log_time: time,
-                    publish_time: time,
-                },
-                data,
-            )
-        })();
+        let channel = self.announced.insert(topic).then(channel);
+        let time = messages::nanos(stamp);
+        let header = MessageHeader {
+            // The writer thread puts in the channel's id.
+            channel_id: 0,
+            sequence: self.sequence,
+            log_time: time,
+            publish_time: time,
+        };
         self.sequence = self.sequence.wrapping_add(1);
-        if let Err(e) = result {
-            self.fail(e.into());
-        }
+        // A writer that stopped has its error ready for `finish`.
+        writer.message(topic, channel, header, data);
     }
 
     /// Keeps the first error and stops recording, finishing what was written so far.
@@ -282,9 +274,8 @@ impl<W: Write + Seek> McapRecorder<W> {
         if self.error.is_none() {
             self.error = Some(error);
         }
-        if let Some(mut writer) = self.writer.take() {
-            let _ = writer.finish();
-        }
+        // Dropping the writer finishes the file.
+        self.writer = None;
     }
 
     fn log(&mut self, stamp: f64, level: Level, name: &str, text: String) {
@@ -302,13 +293,13 @@ impl<W: Write + Seek> McapRecorder<W> {
 
 /// A recorder dropped without [`McapRecorder::finish`] (a failed or cancelled run) still writes
 /// what waits on its tape; the writer then finishes the file as it drops.
-impl<W: Write + Seek> Drop for McapRecorder<W> {
+impl<W: Write + Seek + Send + 'static> Drop for McapRecorder<W> {
     fn drop(&mut self) {
         self.drain_tape();
     }
 }
 
-impl<W: Write + Seek> Observer for McapRecorder<W> {
+impl<W: Write + Seek + Send + 'static> Observer for McapRecorder<W> {
     fn transition(&mut self, stamp: f64, from: Option<&State>, edge: Edge, to: &State) {
         if let Some(tape) = &mut self.tape {
             tape.transition(stamp, from, edge, to);
@@ -398,21 +389,13 @@ impl<W: Write + Seek> Observer for McapRecorder<W> {
 
     fn wrench(&mut self, stamp: f64, wrench: &Wrench) {
         let message = WristWrench::from(wrench).encode_to_vec();
-        // The schema goes into the file once, with the channel.
-        let schema = if self.channels.contains_key(topics::WRENCH) {
-            Vec::new()
-        } else {
-            wrist_wrench_schema()
+        let channel = || Channel {
+            schema_name: WRIST_WRENCH_SCHEMA.into(),
+            schema_encoding: "protobuf".into(),
+            schema: wrist_wrench_schema(),
+            message_encoding: "protobuf".into(),
         };
-        self.write_raw(
-            topics::WRENCH,
-            stamp,
-            WRIST_WRENCH_SCHEMA,
-            "protobuf",
-            &schema,
-            "protobuf",
-            &message,
-        );
+        self.write_raw(topics::WRENCH, stamp, channel, message);
     }
 
     fn note(&mut self, stamp: f64, level: LogLevel, text: &str) {

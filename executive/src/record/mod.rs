@@ -7,6 +7,7 @@ mod observer;
 mod summary;
 pub mod tape;
 mod wrench_message;
+mod writer_thread;
 
 pub use mcap_recorder::{McapRecorder, RecordError, RunInfo, topics};
 pub use mcap_records::{RECORD_LENGTH_LIMIT, Records, mcap_records};
