@@ -197,7 +197,6 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
             name: SUMMARY_METADATA.into(),
             metadata: summary.entries(),
         };
-        // A writer that stopped has its error ready for `finish`.
         if let Some(writer) = self.writer.as_mut() {
             writer.metadata(metadata);
         }
@@ -265,7 +264,6 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
             publish_time: time,
         };
         self.sequence = self.sequence.wrapping_add(1);
-        // A writer that stopped has its error ready for `finish`.
         writer.message(topic, channel, header, data);
     }
 

@@ -1,7 +1,8 @@
 //! The wrist's wrench as a protobuf message, `nudge.WristWrench`, with its schema: a
 //! `FileDescriptorSet` built here, so Foxglove decodes and plots it (`/wrist/wrench.force.x`, …)
-//! with no `.proto` file to ship. Six doubles and the force's norm take 75 bytes a sample, where the
-//! JSON they replace took about 160 (a 1 kHz sensor writes a hundred thousand in the paper's run).
+//! with no `.proto` file to ship. A sample is at most 67 bytes (two nested vectors of three doubles
+//! and the norm; proto3 leaves zeros out): the paper run's 99,300 samples made its recording 5.4 MB
+//! smaller than the JSON they replace.
 
 use prost::Message;
 use prost_types::field_descriptor_proto::{Label, Type};

@@ -12,9 +12,9 @@ use mcap::records::{MessageHeader, Metadata};
 
 use super::mcap_recorder::RecordError;
 
-/// Messages that may wait for the writer before the run waits for it: a few seconds of the
-/// recording at its busiest (a thousand wrench samples a second), few enough that waiting clouds
-/// (a few hundred kB each) stay within tens of MB.
+/// Messages that may wait for the writer before the run waits for it: a few seconds of the busiest
+/// topic (the wrench, a thousand samples a second). It counts messages, not bytes; clouds, a few
+/// hundred kB each, come a few a second at most.
 const QUEUE: usize = 4096;
 
 /// A topic's schema and message encoding, sent with its first message.
@@ -60,30 +60,33 @@ impl<W: Write + Seek + Send + 'static> WriterThread<W> {
         })
     }
 
-    /// Queues a message; `channel` must come with a topic's first message. False when the writer
-    /// has stopped (its error comes from [`Self::finish`]).
+    /// Queues a message; `channel` must come with a topic's first message. Nothing happens once
+    /// the writer has stopped: its error comes from [`Self::finish`].
     pub fn message(
         &mut self,
         topic: &'static str,
         channel: Option<Channel>,
         header: MessageHeader,
         data: Vec<u8>,
-    ) -> bool {
+    ) {
         self.send(Job::Message {
             topic,
             channel,
             header,
             data,
-        })
+        });
     }
 
-    /// Queues a metadata record. False when the writer has stopped.
-    pub fn metadata(&mut self, metadata: Metadata) -> bool {
-        self.send(Job::Metadata(metadata))
+    /// Queues a metadata record (nothing once the writer has stopped).
+    pub fn metadata(&mut self, metadata: Metadata) {
+        self.send(Job::Metadata(metadata));
     }
 
-    fn send(&mut self, job: Job) -> bool {
-        self.jobs.as_ref().is_some_and(|j| j.send(job).is_ok())
+    /// A closed queue means the writer stopped at an error, which `finish` returns.
+    fn send(&mut self, job: Job) {
+        if let Some(jobs) = &self.jobs {
+            let _ = jobs.send(job);
+        }
     }
 
     /// Closes the queue, waits for the writer to write what it holds and finish the file (summary
