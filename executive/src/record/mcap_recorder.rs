@@ -128,6 +128,9 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
             // Level 1 halves the recorder's CPU cost against the default (3) for 0.5 % more bytes:
             // point clouds barely compress further.
             .compression_level(1)
+            // One compressing thread, the writer's own: zstd's workers (one per core by default)
+            // would compete with the run for the cores it is using.
+            .compression_threads(0)
             .profile("")
             .create(sink)?;
         let mut metadata = BTreeMap::new();
