@@ -57,12 +57,6 @@ pub struct ExecutiveConfig {
     /// floor anyway (guarded) or given up: one look from the best place, and one more where the first
     /// showed part of it.
     pub views_per_push: u32,
-    /// Force limit of a push test's guarded move (N): reaching it means static. The paper: 20 N.
-    pub force_limit: f64,
-    /// Force limit of a clearing stroke (N). The object is known to move, so this only has to catch
-    /// a jam; it sits above the test's limit because every stroke starts with an impact, and on a
-    /// 4 kg chair sliding at 15.7 N a 2 cm/s impact alone reaches 18–20 N.
-    pub clear_force_limit: f64,
     /// The fused decision's thresholds.
     pub classifier: ClassifierConfig,
 }
@@ -80,8 +74,6 @@ impl Default for ExecutiveConfig {
             mover_waits: 6,
             max_views: 12,
             views_per_push: 2,
-            force_limit: 20.0,
-            clear_force_limit: 30.0,
             classifier: ClassifierConfig::default(),
         }
     }

@@ -25,6 +25,9 @@ pub use config::{CandidatePolicy, ExecutiveConfig};
 pub use event::{Candidate, Event, SetAside, SetAsideWhy};
 pub use explain::{Explanation, TestRecord};
 pub use machine::{Edge, Knowledge, Step, start, transition};
+/// What the robot is (its description, read by every crate): re-exported so an adapter needs one
+/// dependency.
+pub use nudge_robot_model::{self as robot_model, RobotModel};
 pub use push_test::{Finding, PushEvidence, PushIntent, Verdict};
 pub use runner::{RunConfig, RunReport, Runner};
 pub use state::{AbortReason, Approach, Purpose, State};

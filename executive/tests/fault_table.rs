@@ -288,7 +288,7 @@ fn states(report: &RunReport) -> Vec<&'static str> {
 #[test]
 fn every_fault_in_every_state_ends_explained_with_the_arm_retracted_and_the_force_bounded() {
     // Invariant: for every fault decorator acting on the first visit of every state the unfaulted run passes through, the run neither panics nor hangs (bounded robot time and calls) and ends in Goal (the robot truly there), NoPathToGoal, or Aborted with a reason other than an internal error, with the arm retracted and no guarded move's contact force past 1.1 × its limit (the run's push-test limit, or the move's own where higher); a fault that never got its chance leaves the run as the unfaulted one (up to where it is cut short).
-    let limit = config().executive.force_limit;
+    let limit = config().model.force.test_limit;
     let generous = Bounds {
         time: config().executive.max_robot_time,
         calls: u64::MAX,

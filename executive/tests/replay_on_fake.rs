@@ -57,7 +57,7 @@ fn a_fake_run_replayed_on_the_same_build_matches_every_call_and_transition() {
 fn a_changed_force_limit_parts_at_the_first_guarded_move_that_carries_it() {
     // Invariant: with the push test's force limit raised, the replay parts at the recording's first guarded move carrying the old limit, at the robot time of the clock reading before it, in PushTest, and no later call is consumed.
     let (_, entries) = recorded();
-    let limit = config().executive.force_limit;
+    let limit = config().model.force.test_limit;
     let index = entries
         .iter()
         .position(
@@ -73,7 +73,7 @@ fn a_changed_force_limit_parts_at_the_first_guarded_move_that_carries_it() {
         })
         .expect("a clock reading before the push");
     let mut changed = config();
-    changed.executive.force_limit = limit + 5.0;
+    changed.model.force.test_limit = limit + 5.0;
     let (_, replay) = replay(entries, changed);
     let d = replay.finish("ended").expect("a divergence");
     assert_eq!(d.index, index, "{d}");

@@ -7,20 +7,12 @@ use nudge_executive::record::NullObserver;
 use nudge_executive::record::Observer;
 use nudge_executive::robot::{FakeRobot, ObjectResponse, RobotError};
 use nudge_executive::{AbortReason, Edge, RunConfig, Runner, State};
-use nudge_motion::RobotCylinder;
+use nudge_robot_model::RobotModel;
 
 mod fake_world;
 
 fn config() -> RunConfig {
-    RunConfig::new(
-        RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        },
-        Point2::new(5.4, 1.8),
-        0.2,
-        1,
-    )
+    RunConfig::new(RobotModel::default(), Point2::new(5.4, 1.8), 0.2, 1)
 }
 
 fn robot() -> FakeRobot {

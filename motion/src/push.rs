@@ -26,6 +26,8 @@ use crate::space::pose;
 use crate::sweep::{SweepBlock, sweep_blocked_among};
 use crate::validity::{StateValidity, Validity, ValidityError};
 use std::cell::RefCell;
+
+use nudge_robot_model::RobotModel;
 use std::collections::BTreeSet;
 
 /// Where the hand can reach and what to try.
@@ -77,12 +79,22 @@ pub struct PushConfig {
 }
 
 impl Default for PushConfig {
+    /// The paper's robot's ([`RobotModel::default`]).
     fn default() -> Self {
+        Self::for_robot(&RobotModel::default())
+    }
+}
+
+impl PushConfig {
+    /// Push planning for `robot`: its arm's reach and hand, pushes as long as its camera sees.
+    pub fn for_robot(robot: &RobotModel) -> Self {
+        let arm = &robot.arm;
+        let span = |[lo, hi]: [f64; 2]| (lo, hi);
         Self {
-            distances: PushConfig::distances_up_to(PushConfig::SR4000_RANGE),
-            reach_x: (0.2, 0.8),
-            reach_y: (-0.4, 0.4),
-            reach_z: (0.2, 1.2),
+            distances: PushConfig::distances_up_to(robot.camera.max_range),
+            reach_x: span(arm.reach_x),
+            reach_y: span(arm.reach_y),
+            reach_z: span(arm.reach_z),
             lateral_offsets: vec![0.0, 0.1, -0.1, 0.2, -0.2, 0.3, -0.3, 0.4, -0.4],
             contact_fractions: vec![0.5, 0.3, 0.7, 0.15, 0.85],
             standoff_step: 0.05,
@@ -90,7 +102,7 @@ impl Default for PushConfig {
             hand_below_top: 0.05,
             face_band: 0.05,
             min_face: 0.1,
-            hand_half_width: 0.05,
+            hand_half_width: arm.hand_half[1],
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
@@ -107,9 +119,6 @@ impl Default for PushConfig {
 pub const SHORT_PUSHES: f64 = 1.2;
 
 impl PushConfig {
-    /// The paper's range camera's reach (m), the longest push [`PushConfig::default`] tries.
-    pub const SR4000_RANGE: f64 = 5.0;
-
     /// Push distances to try, shortest first, up to `longest` (m): every 0.1 m from 0.3 m to 1.2 m
     /// (one to a few strokes, where a few centimetres decide whether the way opens beside the
     /// object), then every 0.2 m (long pushes through a doorway or along a corridor, where the

@@ -31,8 +31,18 @@ pub struct ValidityConfig {
 }
 
 impl Default for ValidityConfig {
+    /// The paper's robot's ([`nudge_robot_model::RobotModel::default`]).
     fn default() -> Self {
-        Self { step_height: 0.03 }
+        Self::for_body(&nudge_robot_model::BodyModel::default())
+    }
+}
+
+impl ValidityConfig {
+    /// What `body` steps over.
+    pub fn for_body(body: &nudge_robot_model::BodyModel) -> Self {
+        Self {
+            step_height: body.step_over,
+        }
     }
 }
 

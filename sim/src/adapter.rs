@@ -26,9 +26,10 @@ impl SimRobot {
         Ok(Self::from_world(World::new(scenario, seed)?))
     }
 
-    /// A robot in an existing world, with the paper's range sensor.
+    /// A robot in an existing world, with a range sensor of its robot's camera.
     pub fn from_world(world: World) -> Self {
-        Self::with_range_sensor(world, ColourRangeSensor::new(ColourRangeConfig::default()))
+        let camera = ColourRangeConfig::for_camera(&world.robot_model().camera);
+        Self::with_range_sensor(world, ColourRangeSensor::new(camera))
     }
 
     /// A robot in an existing world with a chosen range sensor.

@@ -65,8 +65,8 @@ impl Setting {
     /// Changes `config` accordingly.
     pub fn apply(&self, config: &mut RunConfig) {
         match *self {
-            Self::ForceLimit(v) => config.executive.force_limit = v,
-            Self::ClearForceLimit(v) => config.executive.clear_force_limit = v,
+            Self::ForceLimit(v) => config.model.force.test_limit = v,
+            Self::ClearForceLimit(v) => config.model.force.clear_limit = v,
             Self::PushSpeed(v) => config.push_motion.speed = v,
             Self::MaxPushTests(v) => config.executive.max_push_tests = v,
         }

@@ -4,43 +4,24 @@ use nalgebra::Point2;
 use nudge_executive::record::Observer;
 use nudge_executive::record::tape::{Tape, Taped};
 use nudge_executive::{CandidatePolicy, RunConfig, RunReport, Runner};
-use nudge_motion::RobotCylinder;
-
-use nudge_executive::runner::CameraModel;
 
 use crate::adapter::SimRobot;
-use crate::humanoid::HEAD_HEIGHT;
 use crate::scenario::Scenario;
-use crate::sensors::colour_range::ColourRangeConfig;
 use crate::world::WorldError;
 
 /// How far the obstacle-type grid reaches past the room's inner walls (m): the walls' own cells.
 const GRID_MARGIN: f64 = 0.5;
 
-/// The run configuration a scenario implies: its robot's cylinder, its goal, the seed, the policy and
+/// The run configuration a scenario implies: its robot, its goal, the seed, the policy and
 /// a grid over its room.
 pub fn run_config(scenario: &Scenario, seed: u64, policy: CandidatePolicy) -> RunConfig {
-    let robot = RobotCylinder {
-        radius: scenario.robot.radius,
-        height: scenario.robot.height,
-    };
     let goal = Point2::new(scenario.goal.position[0], scenario.goal.position[1]);
-    let mut config = RunConfig::new(robot, goal, scenario.goal.tolerance, seed);
+    let mut config = RunConfig::new(scenario.robot.model(), goal, scenario.goal.tolerance, seed);
     config.executive.policy = policy;
     // The grid covers the room and a margin for its walls, as Tamura sizes it from the map.
     let margin = nalgebra::Vector2::repeat(GRID_MARGIN);
     let room = Point2::new(scenario.room.size[0], scenario.room.size[1]);
     config.grid.area = Some((Point2::origin() - margin, room + margin));
-    // Moving to see weighs walks by the scenario's walking speed and predicts what the simulated
-    // camera on the simulated head shows.
-    config.view.walk_speed = scenario.robot.walk_speed;
-    let sensor = ColourRangeConfig::default();
-    config.view.camera = CameraModel {
-        eye_height: HEAD_HEIGHT,
-        h_fov: sensor.h_fov_deg.to_radians(),
-        v_fov: sensor.v_fov_deg.to_radians(),
-        max_range: sensor.max_range,
-    };
     config
 }
 

@@ -93,6 +93,7 @@ pub use geometry::{BOUNDARY_TOLERANCE, DISC_POLYGON_CORNERS, Footprint, GRAVITY,
 pub use load::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML};
 pub use validate::{FRICTION_RANGE, MAX_OBJECTS, MAX_ROOM_SIDE, Violation};
 
+use nudge_robot_model::RobotModel;
 use serde::{Deserialize, Serialize};
 
 /// A whole scenario file.
@@ -147,12 +148,7 @@ impl Scenario {
                 floor_colour: default_floor_colour(),
                 wall_colour: default_wall_colour(),
             },
-            robot: RobotSpec {
-                start,
-                radius: default_robot_radius(),
-                height: default_robot_height(),
-                walk_speed: default_walk_speed(),
-            },
+            robot: RobotSpec::at(start),
             goal: Goal {
                 position: goal,
                 tolerance: default_goal_tolerance(),
@@ -191,31 +187,69 @@ fn default_wall_colour() -> [u8; 3] {
     [225, 222, 210]
 }
 
-/// The robot: where it starts and its bounding cylinder.
+/// The robot: where it starts, and what it is.
+///
+/// What it is comes from `[robot.model]`, a robot description (`nudge_robot_model::RobotModel`: body,
+/// head, camera, arm, wrist, force limits), every field of which defaults to the paper's HRP-2;
+/// `radius`, `height` and `walk_speed` are shorthands for its `body` fields.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSpec {
     /// x, y (m), yaw (deg).
     pub start: [f64; 3],
-    /// Radius of the bounding cylinder (m).
-    #[serde(default = "default_robot_radius")]
-    pub radius: f64,
-    /// Height of the bounding cylinder (m).
-    #[serde(default = "default_robot_height")]
-    pub height: f64,
-    /// Walking speed (m/s).
-    #[serde(default = "default_walk_speed")]
-    pub walk_speed: f64,
+    /// Radius of the bounding cylinder (m): `model.body.radius`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Height of the bounding cylinder (m): `model.body.height`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// Walking speed (m/s): `model.body.walk_speed`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub walk_speed: Option<f64>,
+    /// The robot description, short of the shorthands above.
+    #[serde(default, skip_serializing_if = "is_default_model")]
+    pub model: RobotModel,
 }
 
-fn default_robot_radius() -> f64 {
-    0.35
+fn is_default_model(model: &RobotModel) -> bool {
+    *model == RobotModel::default()
 }
-fn default_robot_height() -> f64 {
-    1.54
-}
-fn default_walk_speed() -> f64 {
-    0.15
+
+impl RobotSpec {
+    /// A robot of the paper's kind starting at `start` (x, y in m, yaw in deg).
+    pub fn at(start: [f64; 3]) -> Self {
+        Self {
+            start,
+            radius: None,
+            height: None,
+            walk_speed: None,
+            model: RobotModel::default(),
+        }
+    }
+
+    /// The robot description with the shorthands applied: what every part of a run reads.
+    pub fn model(&self) -> RobotModel {
+        let mut model = self.model.clone();
+        model.body.radius = self.radius();
+        model.body.height = self.height();
+        model.body.walk_speed = self.walk_speed();
+        model
+    }
+
+    /// Radius of the bounding cylinder (m).
+    pub fn radius(&self) -> f64 {
+        self.radius.unwrap_or(self.model.body.radius)
+    }
+
+    /// Height of the bounding cylinder (m).
+    pub fn height(&self) -> f64 {
+        self.height.unwrap_or(self.model.body.height)
+    }
+
+    /// Walking speed (m/s).
+    pub fn walk_speed(&self) -> f64 {
+        self.walk_speed.unwrap_or(self.model.body.walk_speed)
+    }
 }
 
 /// The goal region: a disc on the floor.

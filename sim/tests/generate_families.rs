@@ -58,7 +58,7 @@ fn every_generated_scenario_keeps_its_guarantee_in_the_true_world() {
 fn promises(family: Family, s: &Scenario, guarantee: &Guarantee) {
     let start = [s.robot.start[0], s.robot.start[1]];
     let distance = (s.goal.position[0] - start[0]).hypot(s.goal.position[1] - start[1]);
-    let robot_width = 2.0 * s.robot.radius;
+    let robot_width = 2.0 * s.robot.radius();
     let slide = |name: &str| {
         let o = s
             .objects
@@ -114,7 +114,7 @@ fn promises(family: Family, s: &Scenario, guarantee: &Guarantee) {
         }
         Family::Overhang => {
             let shelf = s.objects.iter().find(|o| o.name == "shelf").expect("shelf");
-            assert!(shelf.elevation > s.robot.height, "{}", s.name);
+            assert!(shelf.elevation > s.robot.height(), "{}", s.name);
             assert!(
                 shelf.size[1] >= s.room.size[1] - 0.05,
                 "{}: spans the room",

@@ -15,7 +15,7 @@ fn ideal(scenario_text: &str) -> Option<f64> {
     let world = World::new(&s, 1).expect("world");
     let start = Point2::new(s.robot.start[0], s.robot.start[1]);
     let goal = Point2::new(s.goal.position[0], s.goal.position[1]);
-    ideal_path_length(&world, start, goal, s.goal.tolerance, s.robot.radius)
+    ideal_path_length(&world, start, goal, s.goal.tolerance, s.robot.radius())
 }
 
 /// A 6 × 4 m room, the robot at (1, 2), the goal at (5, 2), and `objects` (TOML).

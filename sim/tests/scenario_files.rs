@@ -37,7 +37,7 @@ fn obstacles(scenario: &Scenario) -> Vec<(String, Footprint)> {
     scenario
         .objects
         .iter()
-        .filter(|o| o.blocks_height(scenario.robot.height))
+        .filter(|o| o.blocks_height(scenario.robot.height()))
         .map(|o| (o.name.clone(), footprint(o)))
         .collect()
 }
@@ -45,7 +45,7 @@ fn obstacles(scenario: &Scenario) -> Vec<(String, Footprint)> {
 /// Breadth-first flood fill over a grid of `CELL` cells where a cell is free when the robot's disc centred
 /// there touches neither a wall nor an obstacle; true when the goal's cell is reached from the start's.
 fn start_reaches_goal(scenario: &Scenario) -> bool {
-    let r = scenario.robot.radius;
+    let r = scenario.robot.radius();
     let (nx, ny) = (
         (scenario.room.size[0] / CELL).floor() as usize,
         (scenario.room.size[1] / CELL).floor() as usize,
@@ -177,7 +177,7 @@ fn the_kakiuchi_room_has_the_geometry_of_the_brief() {
 fn every_gap_in_the_kakiuchi_barrier_is_narrower_than_the_robot() {
     // Invariant: wall–chair and chair–table gaps in the barrier are all below the robot's diameter.
     let room = load("kakiuchi-room");
-    let diameter = 2.0 * room.robot.radius;
+    let diameter = 2.0 * room.robot.radius();
     let barrier: Vec<Footprint> = ["chair-1", "table", "chair-2"]
         .iter()
         .map(|n| footprint(object(&room, n)))
@@ -315,8 +315,8 @@ fn the_pipe_is_above_the_robot_and_spans_the_room() {
     // the robot pass.
     let scenario = load("pipe-overhang");
     let pipe = object(&scenario, "pipe");
-    assert!(pipe.elevation > scenario.robot.height);
-    assert!(!pipe.blocks_height(scenario.robot.height));
+    assert!(pipe.elevation > scenario.robot.height());
+    assert!(!pipe.blocks_height(scenario.robot.height()));
     let (lo, hi) = footprint(pipe).aabb();
     assert!(lo.y <= 1e-9 && hi.y >= scenario.room.size[1] - 1e-9);
     let mut lowered = scenario.clone();
@@ -366,10 +366,10 @@ fn the_tamura_timeline_plays_while_the_robot_walks() {
     let times = timetable(&scenario, "person");
     let points = person.waypoint_points();
     let robot = &scenario.robot;
-    let robot_at = |t: f64| robot.start_position() + Vector2::new(robot.walk_speed * t, 0.0);
-    let walk_time = (scenario.goal.centre() - robot.start_position()).norm() / robot.walk_speed;
+    let robot_at = |t: f64| robot.start_position() + Vector2::new(robot.walk_speed() * t, 0.0);
+    let walk_time = (scenario.goal.centre() - robot.start_position()).norm() / robot.walk_speed();
     assert!(
-        (robot.walk_speed - 0.2).abs() < 1e-12 && walk_time > 50.0,
+        (robot.walk_speed() - 0.2).abs() < 1e-12 && walk_time > 50.0,
         "{walk_time}"
     );
 
@@ -399,7 +399,7 @@ fn the_tamura_timeline_plays_while_the_robot_walks() {
         "picked at {picked_at} s, robot done at {walk_time} s"
     );
     assert!(
-        robot_at(picked_at).x + robot.radius < suitcase_rear,
+        robot_at(picked_at).x + robot.radius() < suitcase_rear,
         "picked up before the robot passes it"
     );
     assert!(

@@ -1,7 +1,6 @@
 //! The wrist sensor against known loads.
 mod world_common;
 
-use nudge_sim::humanoid::HAND_MASS;
 use world_common::*;
 
 #[test]
@@ -21,7 +20,7 @@ fn hanging_hand_reads_its_weight() {
         w.advance(dt).expect("advance");
         assert_eq!(w.steps(), steps + 1, "one physics step of {dt} s");
         let f = w.wrist_truth().force;
-        let weight = HAND_MASS * 9.81;
+        let weight = w.robot_model().arm.hand_mass * 9.81;
         assert!(
             (f.z + weight).abs() < 0.01 * weight,
             "dt {dt}: force {f:?}, weight {weight}"

@@ -4,9 +4,7 @@
 use nalgebra::{Isometry3, Point2, Point3, Vector2, Vector3};
 use nudge_executive::record::{NullObserver, Observer, RobotFrames};
 use nudge_executive::runner::GridSetup;
-use nudge_executive::{
-    CandidatePolicy, Edge, ExecutiveConfig, Purpose, PushIntent, RunReport, State, Verdict,
-};
+use nudge_executive::{CandidatePolicy, Edge, Purpose, PushIntent, RunReport, State, Verdict};
 use nudge_perception::grid::{CellClass, CellIndex, Evidence};
 use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
@@ -257,7 +255,7 @@ fn person_run(name: &str) -> (RunReport, Vec<Edge>) {
         .fold(f64::INFINITY, f64::min);
     println!("closest approach to the person: {closest:.2} m");
     assert!(
-        closest >= scenario.robot.radius + person.radius,
+        closest >= scenario.robot.radius() + person.radius,
         "{closest:.2} m"
     );
     let edges = report.timeline.iter().map(|t| t.edge).collect();
@@ -439,7 +437,7 @@ fn a_cart_seen_left_in_the_doorway_is_cleared_without_a_push_test() {
     );
 
     // The clearing push stayed under its limit (it never jammed); nothing was pushed but the cart.
-    let limit = ExecutiveConfig::default().clear_force_limit;
+    let limit = nudge_executive::RobotModel::default().force.clear_limit;
     assert!(!seen.clear_forces.is_empty());
     for (id, peak) in &seen.clear_forces {
         println!("clearing push on {id}: peak {peak:.1} N");
@@ -457,7 +455,7 @@ fn a_cart_seen_left_in_the_doorway_is_cleared_without_a_push_test() {
         .map(|(t, p)| (plan.state_at(*t).position - p).norm())
         .fold(f64::INFINITY, f64::min);
     assert!(
-        closest >= scenario.robot.radius + person.radius,
+        closest >= scenario.robot.radius() + person.radius,
         "{closest:.2} m"
     );
     let base = robot.world().humanoid().base_pose();

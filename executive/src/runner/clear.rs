@@ -145,8 +145,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
         };
         // Strokes are followed by looks only for a long push; the strokes it takes are computed below.
-        let stroke_start = (self.config.robot.radius + STROKE_STANDOFF).max(motion.near);
-        let full_stroke = (motion.reach - stroke_start - motion.approach_gap).max(MIN_STROKE);
+        let stroke_start =
+            (self.config.model.body.radius + STROKE_STANDOFF).max(self.config.model.arm.reach_x[0]);
+        let full_stroke =
+            (self.config.model.arm.reach_x[1] - stroke_start - motion.approach_gap).max(MIN_STROKE);
         let long = intent.distance > TRACKED_STROKES * full_stroke;
         let mut tracked = match self.prism(intent.target).cloned().filter(|_| long) {
             Some(prism) => {
@@ -181,8 +183,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 motion.approach_gap
             };
             // At least far enough that a stroke from before the face fits in the arm's reach.
-            let at_least = face_x - gap + MIN_STROKE - motion.reach;
-            let ahead = (face_x + remaining - motion.reach)
+            let at_least = face_x - gap + MIN_STROKE - self.config.model.arm.reach_x[1];
+            let ahead = (face_x + remaining - self.config.model.arm.reach_x[1])
                 .max(at_least)
                 .min(face_x - stroke_start);
             if ahead > 0.02 {
@@ -202,14 +204,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 ),
                 None => face.y,
             };
-            let from_x = (face.x - gap).max(motion.near);
-            let to_x = (face.x + remaining).min(motion.reach);
+            let from_x = (face.x - gap).max(self.config.model.arm.reach_x[0]);
+            let to_x = (face.x + remaining).min(self.config.model.arm.reach_x[1]);
             if to_x - from_x < MIN_STROKE {
                 // The object is beyond the arm's reach and the body could not walk after it (the
                 // walk stopped against something): this push ends here; a look shows where it is.
                 break;
             }
-            let limit = self.config.executive.clear_force_limit;
+            let limit = self.config.model.force.clear_limit;
             // The first stroke goes by a plan made from a look, its object perhaps turned since (a
             // chair that jammed on a jamb, a corner now beside the hand's way): the hand gets to
             // the line guarded all the way. Later strokes start where the last one measured the
@@ -396,7 +398,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if !matches!(outcome, WalkOutcome::Blocked { .. }) || (now - from).norm() > SLIDE_AFTER {
             return Ok(());
         }
-        let reach = self.config.robot.radius + SLIDE_NEAR;
+        let reach = self.config.model.body.radius + SLIDE_NEAR;
         let Some(to) = nearest_other(&self.world.prisms, &from, reach, pushed)
             .and_then(|nearest| slide_target(&from, &direction, distance, &nearest, reach))
         else {

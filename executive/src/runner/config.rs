@@ -9,6 +9,8 @@ use nudge_motion::{
 use nudge_perception::PerceptionConfig;
 use nudge_perception::grid::{ColumnReduction, DEFAULT_RESOLUTION, GridConfig};
 
+use nudge_robot_model::RobotModel;
+
 use crate::config::ExecutiveConfig;
 
 /// How the hand pushes during a push test and a clearing push.
@@ -29,8 +31,6 @@ pub struct PushMotionConfig {
     pub approach_gap: f64,
     /// A push test pushes this far past the expected contact (m).
     pub test_travel: f64,
-    /// Force norm above which the hand counts as touching (N).
-    pub contact_threshold: f64,
     /// Guard of a stroke's touch (N): the hand moves at its leg's speed until it reads this, stops,
     /// and presses on from there (see [`Self::press_acceleration`]). A touch reads the wrist's
     /// damping × speed at once and its stiffness × speed per control period on top of the guard,
@@ -48,10 +48,6 @@ pub struct PushMotionConfig {
     /// 16 N) / 2), and the wrist's damping takes about half off — and once it slides, its
     /// acceleration to the push speed costs m·a = 0.2 N. The push speed is reached 2 cm in.
     pub press_acceleration: f64,
-    /// Farthest the hand reaches ahead of the body axis (m).
-    pub reach: f64,
-    /// Nearest the hand comes to the body axis (m).
-    pub near: f64,
     /// Points this far around an object's footprint belong to it when cropping for ICP (m).
     pub crop_margin: f64,
 }
@@ -63,11 +59,8 @@ impl Default for PushMotionConfig {
             approach_speed: 0.05,
             approach_gap: 0.08,
             test_travel: 0.15,
-            contact_threshold: 2.0,
             touch_force: 5.0,
             press_acceleration: 0.01,
-            reach: 0.8,
-            near: 0.2,
             crop_margin: 0.06,
         }
     }
@@ -109,10 +102,9 @@ pub struct GridSetup {
     /// below the horizon sees the floor under a table top and then the top itself, which the passive
     /// rules would take for something appearing. Default 22°: the 20° frames go in (the
     /// look-around's shallowest row, the walking and watching frames); the look-around's 30° and 45°
-    /// rows and the looks at an object around a push (42° to 50° in the paper's room) stay out. The value was meant
-    /// as the tilt at which the SR-4000's upper edge reaches the horizon, reading its 43.6°
-    /// horizontal field as the vertical one: with its 34.6° vertical field a 20° frame's upper edge
-    /// lies 2.7° below the horizon.
+    /// rows and the looks at an object around a push (42° to 50° in the paper's room) stay out. With
+    /// the SR-4000's 34.6° vertical field a 20° frame's upper edge lies 2.7° below the horizon and a
+    /// 22° frame's 4.7°; the 30° row's, 12.7°, would show a table top after the floor beneath it.
     pub max_tilt: f64,
     /// An obstacle counts as having moved lately when the grid saw one of its cells (or one next to
     /// them) Moving in a look or a walk within this many seconds (s). Default 30.
@@ -138,47 +130,10 @@ impl Default for GridSetup {
     }
 }
 
-/// The range camera on the robot's head, as moving to see needs it: where it looks from and what it
-/// can see. Defaults: the paper's SR-4000 on HRP-2's head.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CameraModel {
-    /// Height of the head's pan/tilt centre, where the camera sits, above the floor (m). Default 1.4.
-    pub eye_height: f64,
-    /// Horizontal field of view, edge to edge (rad). Default 43.6°.
-    pub h_fov: f64,
-    /// Vertical field of view, edge to edge (rad). Default 34.6°.
-    pub v_fov: f64,
-    /// Farthest return (m). Default 5.
-    pub max_range: f64,
-}
-
-impl Default for CameraModel {
-    fn default() -> Self {
-        Self {
-            eye_height: 1.4,
-            h_fov: 43.6f64.to_radians(),
-            v_fov: 34.6f64.to_radians(),
-            max_range: 5.0,
-        }
-    }
-}
-
-impl CameraModel {
-    /// Nearest floor in view with the head tilted `tilt` down (m): where the lower edge of the field
-    /// of view meets the floor.
-    pub fn floor_near(&self, tilt: f64) -> f64 {
-        let down = (tilt + self.v_fov / 2.0).min(std::f64::consts::FRAC_PI_2);
-        self.eye_height / down.tan().max(1e-9)
-    }
-}
-
-/// Moving to see: the camera, the walk, and how viewpoints are chosen.
+/// Moving to see: how viewpoints are chosen (the camera and the walk are the robot's: see
+/// [`RunConfig::model`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewSetup {
-    /// The range camera on the head.
-    pub camera: CameraModel,
-    /// Walking speed (m/s): a viewpoint's walk is weighed in seconds against what it shows.
-    pub walk_speed: f64,
     /// Gap between candidate viewpoints (m). Default 0.25 m: a stand pose a few grid cells off shows
     /// nearly the same floor, and the view planner's cost grows with the candidates' number.
     pub spacing: f64,
@@ -186,11 +141,7 @@ pub struct ViewSetup {
 
 impl Default for ViewSetup {
     fn default() -> Self {
-        Self {
-            camera: CameraModel::default(),
-            walk_speed: 0.15,
-            spacing: 0.25,
-        }
+        Self { spacing: 0.25 }
     }
 }
 
@@ -201,8 +152,9 @@ pub struct RunConfig {
     pub executive: ExecutiveConfig,
     /// Perception's stages (the look-around's views included).
     pub perception: PerceptionConfig,
-    /// The robot's bounding cylinder.
-    pub robot: RobotCylinder,
+    /// What the robot is: its body, head, camera, arm, wrist and force limits. The run takes every
+    /// robot fact from here.
+    pub model: RobotModel,
     /// Which prisms block the cylinder.
     pub validity: ValidityConfig,
     /// The goal (map frame, m).
@@ -248,7 +200,6 @@ impl RunConfig {
     /// where the top ray of its least tilted view passes (`eye − d · tan(min tilt − v_fov/2)`). A
     /// surface whose top lies below this was seen whole in height; a wall's top never is.
     pub fn top_in_view(&self, d: f64) -> f64 {
-        let camera = &self.view.camera;
         let min_tilt = self
             .perception
             .look_around
@@ -257,44 +208,44 @@ impl RunConfig {
             .copied()
             .fold(f64::INFINITY, f64::min)
             .to_radians();
-        camera.eye_height - d * (min_tilt - camera.v_fov / 2.0).tan()
+        self.model.head.height - d * (min_tilt - self.model.camera.v_fov() / 2.0).tan()
+    }
+
+    /// The robot's bounding cylinder, as the planners see it.
+    pub fn cylinder(&self) -> RobotCylinder {
+        RobotCylinder {
+            radius: self.model.body.radius,
+            height: self.model.body.height,
+        }
+    }
+
+    /// Nearest floor in view with the head tilted `tilt` down (m): where the lower edge of the
+    /// camera's field of view meets the floor.
+    pub fn floor_near(&self, tilt: f64) -> f64 {
+        let down = (tilt + self.model.camera.v_fov() / 2.0).min(std::f64::consts::FRAC_PI_2);
+        self.model.head.height / down.tan().max(1e-9)
     }
 
     /// The floor a look-around shows from where the robot stands: the head's camera through the
     /// look-around's views ([`LookCoverage::from_camera`]); the paper's SR-4000 on HRP-2 when the
     /// camera or the views make no sense.
     pub fn look_coverage(&self) -> LookCoverage {
-        let camera = &self.view.camera;
-        let look = &self.perception.look_around;
-        let tilts: Vec<f64> = look.tilts_deg.iter().map(|t| t.to_radians()).collect();
-        let pans: Vec<f64> = look.pans_deg.iter().map(|p| p.to_radians()).collect();
-        LookCoverage::from_camera(
-            camera.eye_height,
-            camera.h_fov,
-            camera.v_fov,
-            camera.max_range,
-            &tilts,
-            &pans,
-        )
-        .unwrap_or_default()
+        LookCoverage::from_robot(&self.model, &self.perception.look_around)
     }
 
-    /// Defaults for a robot of `robot` size heading to `goal`.
-    pub fn new(robot: RobotCylinder, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
+    /// Defaults for `model` heading to `goal`.
+    pub fn new(model: RobotModel, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
         let perception = PerceptionConfig::default();
-        let view = ViewSetup::default();
         Self {
             executive: ExecutiveConfig::default(),
             // The push planner reads footprints made of perception's elevation cells, and pushes as
             // far as the camera sees.
             push: PushConfig {
                 footprint_cell: perception.elevation.cell_size,
-                distances: PushConfig::distances_up_to(view.camera.max_range),
-                ..PushConfig::default()
+                ..PushConfig::for_robot(&model)
             },
             perception,
-            robot,
-            validity: ValidityConfig::default(),
+            validity: ValidityConfig::for_body(&model.body),
             goal,
             goal_tolerance,
             planner: RrtConnect::default(),
@@ -305,12 +256,13 @@ impl RunConfig {
             push_motion: PushMotionConfig::default(),
             grid: GridSetup {
                 reduction: ColumnReduction {
-                    max_height: robot.height,
+                    max_height: model.body.height,
                     ..ColumnReduction::default()
                 },
                 ..GridSetup::default()
             },
-            view,
+            view: ViewSetup::default(),
+            model,
             clearance: 0.08,
             forget_after_floor_points: 30,
             structure_margin: 0.15,

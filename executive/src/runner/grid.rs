@@ -348,7 +348,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 // The robot stands on its start: that floor is seen, though no camera sees under it.
                 self.world
                     .memory
-                    .tread(grid.geometry(), start, self.config.robot.radius);
+                    .tread(grid.geometry(), start, self.config.model.body.radius);
                 self.world.grid = Some(grid);
             }
             Err(e) => {
@@ -426,7 +426,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// Watches the cells a walk along `waypoints` sweeps; a flag raised before is dropped.
     pub(crate) fn watch_path(&mut self, waypoints: &[Point2<f64>]) {
-        let radius = self.config.robot.radius;
+        let radius = self.config.model.body.radius;
         if let Some(grid) = self.world.grid.as_mut() {
             let cells = grid.cells_along_path(waypoints, radius);
             grid.set_watched_path(&cells);

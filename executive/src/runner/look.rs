@@ -78,7 +78,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         };
         // What changed while the head turned: a person's earlier places never become obstacles.
         let width = self.world.views.first().map_or(1, |v| v.width().max(1));
-        let pitch = self.config.view.camera.h_fov / width as f64;
+        let pitch = self.config.model.camera.h_fov() / width as f64;
         let changes = LookChanges::new(&self.world.views, pitch);
         // Only the look's own views are compared: a look from elsewhere sees edges and thin parts
         // differently enough to read change into a still room.

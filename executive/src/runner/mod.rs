@@ -29,7 +29,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-pub use config::{CameraModel, GridSetup, PushMotionConfig, RunConfig, ViewSetup};
+pub use config::{GridSetup, PushMotionConfig, RunConfig, ViewSetup};
 pub use report::{Decision, RunReport, TimelineEntry};
 use watchdog::Watchdog;
 use world::WorldModel;
@@ -90,7 +90,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     pub fn new(robot: R, observer: O, config: RunConfig) -> Self {
         let rng = ChaCha8Rng::seed_from_u64(config.seed);
         Self {
-            robot: Watchdog::new(robot, config.view.walk_speed),
+            robot: Watchdog::new(robot, config.model.body.walk_speed),
             observer,
             config,
             world: WorldModel::default(),
@@ -315,11 +315,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             let at = nalgebra::Point2::from(base.value.translation.vector);
             self.world
                 .memory
-                .tread(grid.geometry(), at, self.config.robot.radius);
+                .tread(grid.geometry(), at, self.config.model.body.radius);
         }
         let head = self.robot.head_angles()?.value;
         let hand = self.robot.hand_position()?.value;
-        let camera = look::camera_pose(&base.value, head, self.config.view.camera.eye_height);
+        let camera = look::camera_pose(&base.value, head, self.config.model.head.height);
         self.observer.frames(
             base.stamp,
             &RobotFrames {

@@ -342,7 +342,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .fold(0.0f64, |m, t| m.max(*t))
             .to_radians();
         let pan = wrap(rel.y.atan2(rel.x) - base.rotation.angle()).clamp(-widest, widest);
-        let eye = self.config.view.camera.eye_height;
+        let eye = self.config.model.head.height;
         let tilt = eye
             .atan2(rel.norm().max(0.1))
             .clamp(self.config.grid.watch_tilt, steepest);
@@ -362,8 +362,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.world.memory.saw(&geometry, &floor_points);
         let here = self.position()?;
         let rest = super::unseen::rest_of_path(waypoints, here);
-        let (low, high) = (self.config.validity.step_height, self.config.robot.height);
-        let radius = self.config.robot.radius;
+        let (low, high) = (
+            self.config.validity.step_height,
+            self.config.model.body.height,
+        );
+        let radius = self.config.model.body.radius;
         let on_path = others
             .iter_valid()
             .filter(|(_, p, _)| f64::from(p.z) > low && f64::from(p.z) < high)
@@ -397,7 +400,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let Some(grid) = self.world.grid.as_ref() else {
             return Ok(None);
         };
-        let camera = &self.config.view.camera;
         let steepest = self
             .config
             .perception
@@ -405,11 +407,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .tilts_deg
             .iter()
             .fold(0.0f64, |m, t| m.max(t.to_radians()));
-        let band = 0.5 * self.config.robot.radius;
+        let band = 0.5 * self.config.model.body.radius;
         // Cells within the band of a point `near` along the path may lie nearer than `near`.
-        let near = camera.floor_near(steepest) + band;
-        let far = camera.floor_near(self.config.grid.watch_tilt)
-            + self.config.view.walk_speed * self.config.grid.watch_period;
+        let near = self.config.floor_near(steepest) + band;
+        let far = self.config.floor_near(self.config.grid.watch_tilt)
+            + self.config.model.body.walk_speed * self.config.grid.watch_period;
         let rest = super::unseen::rest_of_path(waypoints, here);
         Ok(super::unseen::first_unseen_along(
             grid,

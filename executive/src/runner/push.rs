@@ -91,7 +91,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 };
             }
         };
-        let eye = self.config.view.camera.eye_height;
+        let eye = self.config.model.head.height;
         let own_shadow = self.world.own_shadow(&prism, eye);
         // Full clearance first; where no stand pose is reachable with it (perception's hulls a few
         // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
@@ -317,7 +317,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let moved = seen.filter(|x| (x - planned.x).abs() > motion.approach_gap / 2.0);
         // No farther than the arm reaches with the approach gap before it: an object that slid out
         // of reach is touched, if at all, at the end of the arm's travel.
-        let within_reach = motion.reach - motion.approach_gap;
+        let within_reach = self.config.model.arm.reach_x[1] - motion.approach_gap;
         let contact = Point2::new(
             moved.unwrap_or(planned.x).min(within_reach.max(planned.x)),
             planned.y,
@@ -337,13 +337,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     planned.y,
                     intent.hand_height,
                     half,
-                    motion.near,
+                    self.config.model.arm.reach_x[0],
                 )
             }
             None => None,
         };
         let from_x = (contact.x.min(first_in_way.unwrap_or(f64::INFINITY)) - motion.approach_gap)
-            .max(motion.near);
+            .max(self.config.model.arm.reach_x[0]);
         // The way to the line's start is known clear where the look shows the object's face on the
         // line and nothing nearer than the stroke starts; else the hand gets there guarded.
         let clear =
@@ -353,8 +353,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         } else {
             Approach::Guarded
         };
-        let to_x = (contact.x + motion.test_travel).min(motion.reach);
-        let limit = self.config.executive.force_limit;
+        let to_x = (contact.x + motion.test_travel).min(self.config.model.arm.reach_x[1]);
+        let limit = self.config.model.force.test_limit;
         // A retest lowered after the object tipped may ask for less than the arm reaches down to.
         let (low, high) = self.config.push.reach_z;
         let z = intent.hand_height.clamp(low, high);
@@ -395,7 +395,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.observer
             .push(stamp, intent, Some(-direction * stroke.peak_force));
         let evidence = PushEvidence {
-            force_limit: self.config.executive.force_limit,
+            force_limit: self.config.model.force.test_limit,
             peak_force: stroke.peak_force,
             reached_limit: matches!(stroke.outcome, HandOutcome::ForceLimit { .. }),
             contact: stroke.contact,
@@ -444,9 +444,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             // From where the hand is (no nearer the body than a stroke ever starts).
             Approach::Guarded => {
                 let here = self.robot.hand_position()?.value;
-                Some(Point3::new(here.x.max(motion.near), here.y, here.z))
+                Some(Point3::new(
+                    here.x.max(self.config.model.arm.reach_x[0]),
+                    here.y,
+                    here.z,
+                ))
             }
-            Approach::GuardedLast(d) => Some(Point3::new((from_x - d).max(motion.near), y, z)),
+            Approach::GuardedLast(d) => Some(Point3::new(
+                (from_x - d).max(self.config.model.arm.reach_x[0]),
+                y,
+                z,
+            )),
         };
         // Each leg touches at a low guard and stops, then presses on from there with the force
         // guard at the limit and the hand's speed ramped up gently: the press is a force ramp.
@@ -517,7 +525,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         motion: GuardedMove,
         log: &mut StrokeLog,
     ) -> Result<HandOutcome, Interrupt> {
-        let threshold = self.config.push_motion.contact_threshold;
+        let threshold = self.config.model.force.contact_threshold;
         self.robot.start_guarded_move(motion)?;
         loop {
             let status = self.robot.hand_status()?;
@@ -572,8 +580,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let rel = centre - base.translation.vector;
         let pan = wrap(rel.y.atan2(rel.x) - base.rotation.angle());
         let aim_z = 0.5 * (prism.z_min + prism.z_max);
-        let camera = &self.config.view.camera;
-        let eye = camera.eye_height;
+        let eye = self.config.model.head.height;
         let at_middle = (eye - aim_z).atan2(rel.norm().max(0.1));
         // Tilted no further down than keeps the top of the nearest face in view: the hand pushes just
         // below it, and the stroke's way there is judged from this look.
@@ -583,8 +590,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .map(|p| (p.coords + shift - base.translation.vector).norm())
             .fold(f64::INFINITY, f64::min)
             .max(0.1);
-        let top_in_view =
-            (eye - prism.z_max).atan2(nearest) + camera.v_fov / 2.0 - TOP_IN_VIEW_MARGIN;
+        let top_in_view = (eye - prism.z_max).atan2(nearest)
+            + self.config.model.camera.v_fov() / 2.0
+            - TOP_IN_VIEW_MARGIN;
         let tilt = at_middle.min(top_in_view);
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;

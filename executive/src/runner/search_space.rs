@@ -93,7 +93,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             return false;
         };
         let geometry = grid.geometry();
-        let half_width = self.config.robot.radius + SEARCH_MARGIN;
+        let half_width = self.config.model.body.radius + SEARCH_MARGIN;
         let cells = search_cells(
             path,
             SEARCH_LENGTH,

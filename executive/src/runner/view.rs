@@ -85,7 +85,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 &self.world.memory,
                 &self.world.prisms,
                 self.config.goal,
-                self.config.goal_tolerance + self.config.robot.radius,
+                self.config.goal_tolerance + self.config.model.body.radius,
             );
             regions(grid.geometry(), &cells, |_| UnseenWhy::BehindObstacles)
         });
@@ -104,7 +104,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .grid
             .as_ref()
             .map_or(0.05, |g| g.geometry().resolution());
-        2.0 * self.config.robot.radius * res
+        2.0 * self.config.model.body.radius * res
     }
 
     /// The open unseen cells that matter to `question`, sorted grid indices.
@@ -125,8 +125,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     memory,
                     prisms,
                     &rest,
-                    self.config.robot.radius,
-                    self.config.view.camera.max_range,
+                    self.config.model.body.radius,
+                    self.config.model.camera.max_range,
                 )
             }
             Question::Push { target, .. } => {
@@ -169,7 +169,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .filter(|d| *d <= nudge_motion::push::SHORT_PUSHES + 1e-9)
             .fold(0.0, f64::max)
             + push.distance_margin;
-        (push.reach_x.1 + self.config.robot.radius).max(longest)
+        (push.reach_x.1 + self.config.model.body.radius).max(longest)
     }
 
     /// The regions of `cells`, each with why it stays unseen.
@@ -194,7 +194,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         match unseen_way(
             grid,
             &self.world.prisms,
-            self.config.robot,
+            self.config.cylinder(),
             self.config.validity.step_height,
             (here, self.config.goal, self.config.goal_tolerance),
             &seen,
@@ -226,7 +226,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         };
         let config = ViewConfig {
             coverage: self.config.look_coverage(),
-            walk_speed: self.config.view.walk_speed,
+            walk_speed: self.config.model.body.walk_speed,
             look_time: self.world.look_time.max(1e-3),
             lattice_factor: 2,
             spacing: self.config.view.spacing,

@@ -288,9 +288,10 @@ mod tests {
         let stalled = ArmStall::new(fake, FaultWindow::once(Trigger::Always), 0.0);
         let mut robot = Watchdog::new(stalled, 0.15);
         robot.hand_position().expect("hand");
+        let [x, y, z] = nudge_robot_model::RobotModel::default().arm.rest;
         let motion = GuardedMove {
-            from: Point3::new(0.3, -0.3, 0.8),
-            to: Point3::new(0.5, -0.3, 0.8),
+            from: Point3::new(x + 0.1, y, z),
+            to: Point3::new(x + 0.3, y, z),
             speed: 0.02,
             force_limit: 20.0,
             acceleration: None,

@@ -135,7 +135,7 @@ impl WorldModel {
     /// as the robot walks), or the seen box without a grid, grown to hold the robot's and the goal's
     /// discs.
     pub fn bounds(&self, robot: &Point2<f64>, config: &RunConfig) -> Option<Bounds> {
-        let r = nalgebra::Vector2::repeat(config.robot.radius);
+        let r = nalgebra::Vector2::repeat(config.model.body.radius);
         let (mut lo, mut hi) = self.seen.unwrap_or((*robot, *robot));
         if let Some(grid) = &self.grid {
             let g = grid.geometry();
@@ -189,13 +189,13 @@ impl WorldModel {
                 grid,
                 &self.prisms,
                 robot,
-                config.robot.radius,
+                config.model.body.radius,
             ));
             obstacles.extend(super::grid::stationary_obstacles(
                 grid,
                 &self.prisms,
                 robot,
-                config.robot.radius,
+                config.model.body.radius,
                 &self.last_motion,
             ));
         }
@@ -216,8 +216,8 @@ impl WorldModel {
         // Plan for a cylinder grown by the clearance; the bounds grow with it, since they were made for
         // the robot's own discs.
         let cylinder = nudge_motion::RobotCylinder {
-            radius: config.robot.radius + clearance,
-            height: config.robot.height,
+            radius: config.model.body.radius + clearance,
+            height: config.model.body.height,
         };
         let grow = nalgebra::Vector2::repeat(clearance);
         let bounds =
@@ -248,7 +248,7 @@ impl WorldModel {
         let outlines: Vec<Vec<Point2<f64>>> =
             detected.iter().map(|p| p.footprint.clone()).collect();
         // The robot cannot stand inside an object: what it stands on was moved (or never was).
-        let radius = config.robot.radius;
+        let radius = config.model.body.radius;
         self.prisms.retain(|p| !prism_covers_disc(p, robot, radius));
         let floor = FloorIndex::new(floor_points);
         let seen_floor = |old: &Prism, new: Option<&Prism>| {
@@ -612,11 +612,7 @@ pub(super) mod tests {
 
     /// The run's configuration for the paper's robot and a goal at `goal` (0.2 m tolerance).
     pub(in crate::runner) fn config_to(goal: Point2<f64>) -> RunConfig {
-        let robot_shape = nudge_motion::RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        };
-        RunConfig::new(robot_shape, goal, 0.2, 1)
+        RunConfig::new(nudge_robot_model::RobotModel::default(), goal, 0.2, 1)
     }
 
     /// Floor points on a 2 cm grid over `[x0, x1] × [y0, y1]`.

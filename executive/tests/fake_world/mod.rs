@@ -8,7 +8,7 @@ use nalgebra::{Isometry2, Point2, Vector2, Vector3};
 use nudge_executive::record::{NullObserver, Observer};
 use nudge_executive::robot::{FakeRobot, FakeScene, ObjectResponse, SceneBox};
 use nudge_executive::{Edge, RunConfig, RunReport, Runner};
-use nudge_motion::RobotCylinder;
+use nudge_robot_model::RobotModel;
 
 /// The box's name in the scene.
 pub const BOX: &str = "box";
@@ -57,15 +57,7 @@ pub fn robot_in(scene: FakeScene) -> FakeRobot {
 
 /// The run's configuration: the robot's cylinder, the goal, seed 1.
 pub fn config() -> RunConfig {
-    RunConfig::new(
-        RobotCylinder {
-            radius: 0.35,
-            height: 1.54,
-        },
-        Point2::new(GOAL.0, GOAL.1),
-        0.2,
-        1,
-    )
+    RunConfig::new(RobotModel::default(), Point2::new(GOAL.0, GOAL.1), 0.2, 1)
 }
 
 /// Runs `robot` to its end; the report and the robot, whose scene is the ground truth.

@@ -8,6 +8,8 @@
 //! apart, less than the 34.6° one), so the sector is covered without gaps.
 
 use nalgebra::{Point2, Vector2};
+use nudge_perception::LookAroundConfig;
+use nudge_robot_model::RobotModel;
 
 /// Why a coverage could not be derived.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
@@ -109,35 +111,36 @@ impl LookCoverage {
 }
 
 impl Default for LookCoverage {
-    /// The paper's look-around: an SR-4000-like camera (43.6° × 34.6°, 5 m range) at 1.4 m, tilts
-    /// 45°, 30°, 20° down × pans ±50°, ±25°, 0°. The most tilted view's lowest ray is 45° + 17.3° =
-    /// 62.3° down, so `near = 1.4 / tan 62.3° ≈ 0.73 m`; the least tilted view's highest ray is
-    /// 20° − 17.3° = 2.7° down, reaching the floor at 29.7 m, beyond the range, so
-    /// `far = √(5² − 1.4²) ≈ 4.80 m`; `half_angle = 50° + 21.8° = 71.8°`.
+    /// The paper's look-around ([`LookAroundConfig::default`]) with the paper's robot's camera
+    /// ([`RobotModel::default`]): an SR-4000 (43.6° × 34.6°, 5 m range) at 1.4 m, tilts 45°, 30°,
+    /// 20° down × pans ±50°, ±25°, 0°. The most tilted view's lowest ray is 45° + 17.3° = 62.3° down,
+    /// so `near = 1.4 / tan 62.3° ≈ 0.73 m`; the least tilted view's highest ray is 20° − 17.3° =
+    /// 2.7° down, reaching the floor at 29.7 m, beyond the range, so `far = √(5² − 1.4²) ≈ 4.80 m`;
+    /// `half_angle = 50° + 21.8° = 71.8°`.
     fn default() -> Self {
+        Self::from_robot(&RobotModel::default(), &LookAroundConfig::default())
+    }
+}
+
+impl LookCoverage {
+    /// What `look` shows with `robot`'s camera on its head ([`Self::from_camera`]); when they make no
+    /// sense (a checked model always does), nothing but the ring the camera's range allows.
+    pub fn from_robot(robot: &RobotModel, look: &LookAroundConfig) -> Self {
+        let (camera, eye_height) = (&robot.camera, robot.head.height);
+        let radians = |degrees: &[f64]| degrees.iter().map(|d| d.to_radians()).collect::<Vec<_>>();
         Self::from_camera(
-            1.4,
-            43.6_f64.to_radians(),
-            34.6_f64.to_radians(),
-            5.0,
-            &[
-                45.0_f64.to_radians(),
-                30.0_f64.to_radians(),
-                20.0_f64.to_radians(),
-            ],
-            &[
-                50.0_f64.to_radians(),
-                25.0_f64.to_radians(),
-                0.0,
-                -25.0_f64.to_radians(),
-                -50.0_f64.to_radians(),
-            ],
+            eye_height,
+            camera.h_fov(),
+            camera.v_fov(),
+            camera.max_range,
+            &radians(&look.tilts_deg),
+            &radians(&look.pans_deg),
         )
         .unwrap_or(Self {
-            eye_height: 1.4,
-            near: 0.735,
-            far: 4.8,
-            half_angle: 71.8_f64.to_radians(),
+            eye_height,
+            near: camera.max_range,
+            far: camera.max_range,
+            half_angle: 0.0,
         })
     }
 }

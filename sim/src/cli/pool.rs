@@ -98,13 +98,13 @@ struct PeakForce {
 }
 
 impl PeakForce {
-    fn new(config: &nudge_executive::ExecutiveConfig) -> Self {
+    fn new(force: &nudge_robot_model::ForceModel) -> Self {
         Self {
             peak: 0.0,
             share: None,
             limit: None,
-            test_limit: config.force_limit,
-            clear_limit: config.clear_force_limit,
+            test_limit: force.test_limit,
+            clear_limit: force.clear_limit,
         }
     }
 }
@@ -146,7 +146,7 @@ pub fn execute(job: &Job<'_>, cancel: &Cancel) -> Result<Done, NotDone> {
         job.scenario,
         job.seed,
         job.policy,
-        PeakForce::new(&config.executive),
+        PeakForce::new(&config.model.force),
     )?;
     let start = Start::of(job.scenario, runner.robot().world());
     cancel.watch(runner.cancel_flag());

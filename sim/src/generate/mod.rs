@@ -207,7 +207,7 @@ fn ideal(scenario: &Scenario) -> Result<Option<f64>, WorldError> {
         nalgebra::Point2::new(x, y),
         goal,
         scenario.goal.tolerance,
-        scenario.robot.radius,
+        scenario.robot.radius(),
     ))
 }
 

@@ -2,11 +2,7 @@
 
 use nalgebra::{Point3, Vector3};
 use nudge_executive::robot::{ActionStatus, GuardedMove, HandOutcome, Stamped, Wrench};
-
-/// Reachable hand positions in `base_link` (m): (min, max) per axis.
-pub const WORKSPACE: [(f64, f64); 3] = [(0.2, 0.8), (-0.4, 0.4), (0.2, 1.2)];
-/// The hand's rest pose beside the body, inside the bounding cylinder's footprint (m, `base_link`).
-pub const REST: Point3<f64> = Point3::new(0.22, -0.18, 0.8);
+use nudge_robot_model::ArmModel;
 /// Speed of unguarded moves: to the start of a guarded line, and retracting (m/s).
 pub const FREE_SPEED: f64 = 0.2;
 /// Acceleration of the hand along its line (m/s²): a speed step would shake the hand on its
@@ -33,34 +29,49 @@ enum Motion {
 pub struct Arm {
     /// Commanded wrist position in `base_link` (m).
     pub command: Point3<f64>,
+    /// Reachable hand positions in `base_link` (m): [min, max] per axis.
+    workspace: [[f64; 2]; 3],
+    /// The hand's rest position beside the body (m, `base_link`).
+    rest: Point3<f64>,
     speed: f64,
     motion: Motion,
     outcome: Option<HandOutcome>,
 }
 
-impl Default for Arm {
-    fn default() -> Self {
+impl Arm {
+    /// `model`'s arm, its hand at rest.
+    pub fn new(model: &ArmModel) -> Self {
+        let [x, y, z] = model.rest;
+        let rest = Point3::new(x, y, z);
         Self {
-            command: REST,
+            command: rest,
+            workspace: [model.reach_x, model.reach_y, model.reach_z],
+            rest,
             speed: 0.0,
             motion: Motion::Hold,
             outcome: None,
         }
     }
-}
 
-/// Whether a point is inside the hand workspace.
-pub fn in_workspace(p: &Point3<f64>) -> bool {
-    (0..3).all(|i| p[i].is_finite() && (WORKSPACE[i].0..=WORKSPACE[i].1).contains(&p[i]))
-}
+    /// The hand's rest position (m, `base_link`).
+    pub fn rest(&self) -> Point3<f64> {
+        self.rest
+    }
 
-impl Arm {
+    /// Whether a point is inside the hand workspace.
+    pub fn in_workspace(&self, p: &Point3<f64>) -> bool {
+        (0..3).all(|i| {
+            let [lo, hi] = self.workspace[i];
+            p[i].is_finite() && (lo..=hi).contains(&p[i])
+        })
+    }
+
     /// Starts a guarded move, or says why not.
     pub fn start_guarded(&mut self, m: GuardedMove) -> Result<(), String> {
-        if !in_workspace(&m.from) || !in_workspace(&m.to) {
+        if !self.in_workspace(&m.from) || !self.in_workspace(&m.to) {
             return Err(format!(
-                "line {:?} → {:?} leaves the hand workspace {WORKSPACE:?}",
-                m.from, m.to
+                "line {:?} → {:?} leaves the hand workspace {:?}",
+                m.from, m.to, self.workspace
             ));
         }
         if !(m.speed.is_finite() && m.speed > 0.0 && m.speed <= MAX_GUARDED_SPEED) {
@@ -159,7 +170,7 @@ impl Arm {
                 }
             }
             Motion::Retract => {
-                if self.move_towards(REST, FREE_SPEED, HAND_ACCEL, dt) {
+                if self.move_towards(self.rest, FREE_SPEED, HAND_ACCEL, dt) {
                     self.motion = Motion::Hold;
                     self.outcome = Some(HandOutcome::Reached);
                 }
@@ -189,10 +200,18 @@ impl Arm {
 mod tests {
     use super::*;
 
+    fn rest() -> Point3<f64> {
+        paper_arm().rest()
+    }
+
+    fn paper_arm() -> Arm {
+        Arm::new(&ArmModel::default())
+    }
+
     fn line(acceleration: Option<f64>) -> GuardedMove {
         GuardedMove {
-            from: REST,
-            to: REST + Vector3::new(0.1, 0.0, 0.0),
+            from: rest(),
+            to: rest() + Vector3::new(0.1, 0.0, 0.0),
             speed: 0.02,
             force_limit: 20.0,
             acceleration,
@@ -204,13 +223,13 @@ mod tests {
         for _ in 0..(seconds * 1000.0).round() as usize {
             arm.step(0.001);
         }
-        arm.command.x - REST.x
+        arm.command.x - rest().x
     }
 
     #[test]
     fn a_line_with_an_acceleration_ramps_the_hand_up_no_faster() {
         // Invariant: on a guarded line with an acceleration a, the hand has travelled at most a·t²/2 after t seconds, and reaches the line's speed (v²/2a in), not the arm's own ramp.
-        let mut gentle = Arm::default();
+        let mut gentle = paper_arm();
         gentle.start_guarded(line(Some(0.01))).expect("accepted");
         let early = travel_after(&mut gentle, 1.0);
         assert!(early <= 0.01 * 1.0 / 2.0 + 1e-4, "{early} m after 1 s");
@@ -222,7 +241,7 @@ mod tests {
             "the third second covered {} m, not 2 cm at 2 cm/s",
             later - at_speed
         );
-        let mut own = Arm::default();
+        let mut own = paper_arm();
         own.start_guarded(line(None)).expect("accepted");
         let quick = travel_after(&mut own, 1.0);
         assert!(quick > 0.019, "{quick} m after 1 s at the arm's own ramp");
@@ -232,7 +251,7 @@ mod tests {
     fn a_line_with_a_bad_acceleration_is_refused() {
         // Invariant: a zero, negative or non-finite acceleration is refused with a reason, and the arm stays still.
         for a in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            let mut arm = Arm::default();
+            let mut arm = paper_arm();
             let refused = arm.start_guarded(line(Some(a)));
             assert!(refused.is_err_and(|r| r.contains("acceleration")), "{a}");
             assert!(!arm.is_moving());

@@ -1,11 +1,7 @@
 //! The pan/tilt head: rate-limited angles and the pose of the range sensor it carries.
 
 use nalgebra::{Isometry2, Isometry3, Translation3, UnitQuaternion, Vector3};
-
-/// Pan limits (rad): left positive.
-pub const PAN_LIMITS: (f64, f64) = (-1.6, 1.6);
-/// Tilt limits (rad): down positive.
-pub const TILT_LIMITS: (f64, f64) = (-0.5, 1.3);
+use nudge_robot_model::HeadModel;
 
 /// The head's joint state and its motion target.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,26 +13,42 @@ pub struct Head {
     target: Option<(f64, f64)>,
     rate: f64,
     height: f64,
+    pan_limits: [f64; 2],
+    tilt_limits: [f64; 2],
 }
 
 impl Head {
-    /// A head looking straight ahead, at `height` above the floor, turning at `rate` rad/s per axis.
-    pub fn new(height: f64, rate: f64) -> Self {
+    /// `model`'s head looking straight ahead.
+    pub fn new(model: &HeadModel) -> Self {
         Self {
             pan: 0.0,
             tilt: 0.0,
             target: None,
-            rate,
-            height,
+            rate: model.rate,
+            height: model.height,
+            pan_limits: model.pan_limits,
+            tilt_limits: model.tilt_limits,
         }
     }
 
+    /// Pan joint limits (rad), right then left.
+    pub fn pan_limits(&self) -> [f64; 2] {
+        self.pan_limits
+    }
+
+    /// Tilt joint limits (rad), up then down.
+    pub fn tilt_limits(&self) -> [f64; 2] {
+        self.tilt_limits
+    }
+
     /// Whether (pan, tilt) is inside the joint limits.
-    pub fn within_limits(pan: f64, tilt: f64) -> bool {
+    pub fn within_limits(&self, pan: f64, tilt: f64) -> bool {
+        let [pan_lo, pan_hi] = self.pan_limits;
+        let [tilt_lo, tilt_hi] = self.tilt_limits;
         pan.is_finite()
             && tilt.is_finite()
-            && (PAN_LIMITS.0..=PAN_LIMITS.1).contains(&pan)
-            && (TILT_LIMITS.0..=TILT_LIMITS.1).contains(&tilt)
+            && (pan_lo..=pan_hi).contains(&pan)
+            && (tilt_lo..=tilt_hi).contains(&tilt)
     }
 
     /// Starts moving to (pan, tilt); the caller checked the limits.

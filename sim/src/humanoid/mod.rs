@@ -19,22 +19,8 @@ use arm::Arm;
 use head::Head;
 use walk::{Rates, Walk, WalkParams};
 
-/// Height of the head's pan/tilt centre above the floor (m).
-pub const HEAD_HEIGHT: f64 = 1.4;
-/// Head joint speed per axis (rad/s).
-pub const HEAD_RATE: f64 = 1.0;
-/// Turning rate of the base (rad/s).
-pub const TURN_RATE: f64 = 0.5;
 /// Distance the walking body keeps from obstacles (m).
 pub const SAFETY_MARGIN: f64 = 0.015;
-/// Mass of the hand (kg).
-pub const HAND_MASS: f64 = 0.5;
-/// The whole robot's mass (kg): HRP-2's, the paper's robot, 58 kg with its batteries (Kaneko et al.,
-/// "Humanoid robot HRP-2", ICRA 2004). The simulated body is kinematic, so physics never uses it;
-/// the effort metrics weigh the robot's own travel with it (`crate::metrics`).
-pub const ROBOT_MASS: f64 = 58.0;
-/// Half extents of the hand box: 4 cm thick along x (the palm faces forward), 10 × 10 cm (m).
-pub const HAND_HALF: [f32; 3] = [0.02, 0.05, 0.05];
 /// Stiffness of the wrist's linear compliance (N/m): arm and sensor are not infinitely stiff, and a
 /// rigid wrist driven kinematically into a fixed obstacle would read an arbitrary solver force.
 /// 20 kN/m makes a 0.1 m/s push rise by at most 2 N per 1 ms step.
@@ -76,31 +62,39 @@ pub struct Humanoid {
     params: WalkParams,
     head: Head,
     arm: Arm,
+    /// Half extents of the hand's box (m).
+    hand_half: [f64; 3],
+    /// The whole robot's mass (kg). The simulated body is kinematic, so physics never uses it; the
+    /// effort metrics weigh the robot's own travel with it (`crate::metrics`).
+    mass: f64,
 }
 
 impl Humanoid {
-    /// Builds the robot's parts in `physics` at its start pose and registers their surfaces.
+    /// Builds the robot `spec` describes (its [`RobotSpec::model`]) in `physics` at its start pose
+    /// and registers their surfaces.
     pub fn new(
         spec: &RobotSpec,
         physics: &mut PhysicsWorld,
         surfaces: &mut HashMap<ColliderHandle, Surface>,
     ) -> Result<Self, Refused> {
-        let ok = |v: f64| v.is_finite() && v > 0.0;
-        if !(ok(spec.radius)
-            && ok(spec.height)
-            && ok(spec.walk_speed)
-            && spec.start.iter().all(|v| v.is_finite()))
-        {
-            return Err(Refused(format!("robot spec has invalid numbers: {spec:?}")));
+        let model = spec.model();
+        if !spec.start.iter().all(|v| v.is_finite()) {
+            return Err(Refused(format!(
+                "robot start {:?} must be finite",
+                spec.start
+            )));
         }
-        if spec.height <= HEAD_HEIGHT * 0.5 || spec.height <= 2.0 * walk::STEP_OVER {
-            return Err(Refused(format!("robot height {} too small", spec.height)));
-        }
+        model
+            .validate()
+            .map_err(|v| Refused(format!("robot description: {v}")))?;
+        let body_model = &model.body;
+        let step_over = body_model.step_over;
         let base = Isometry2::new(
             nalgebra::Vector2::new(spec.start[0], spec.start[1]),
             spec.start[2].to_radians(),
         );
-        let arm = Arm::default();
+        let arm = Arm::new(&model.arm);
+        let hand_half = model.arm.hand_half;
         let surface = Surface::new(ROBOT_COLOUR, Texture::Plain, Owner::Robot);
 
         let body = physics.bodies.insert(
@@ -110,10 +104,10 @@ impl Humanoid {
         );
         // The body starts above the floor like the walking shape cast, so it steps over mats instead
         // of shoving them.
-        let half = ((spec.height - walk::STEP_OVER) / 2.0) as f32;
-        let cylinder = ColliderBuilder::cylinder(half, spec.radius as f32)
+        let half = ((body_model.height - step_over) / 2.0) as f32;
+        let cylinder = ColliderBuilder::cylinder(half, body_model.radius as f32)
             .position(Pose::from_parts(
-                Vector::new(0.0, 0.0, walk::STEP_OVER as f32 + half),
+                Vector::new(0.0, 0.0, step_over as f32 + half),
                 Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
             ))
             .collision_groups(InteractionGroups::new(
@@ -136,8 +130,9 @@ impl Humanoid {
         let hand = physics
             .bodies
             .insert(RigidBodyBuilder::dynamic().pose(wrist_pose).build());
-        let hand_box = ColliderBuilder::cuboid(HAND_HALF[0], HAND_HALF[1], HAND_HALF[2])
-            .mass(HAND_MASS as f32)
+        let [hx, hy, hz] = hand_half.map(|h| h as f32);
+        let hand_box = ColliderBuilder::cuboid(hx, hy, hz)
+            .mass(model.arm.hand_mass as f32)
             .friction(0.5)
             .collision_groups(InteractionGroups::new(
                 groups::HAND,
@@ -174,15 +169,23 @@ impl Humanoid {
             walk: Walk::Idle(None),
             rates: Rates::default(),
             params: WalkParams {
-                speed: spec.walk_speed,
-                turn_rate: TURN_RATE,
-                radius: spec.radius,
-                height: spec.height,
+                speed: body_model.walk_speed,
+                turn_rate: body_model.turn_rate,
+                radius: body_model.radius,
+                height: body_model.height,
+                step_over,
                 margin: SAFETY_MARGIN,
             },
-            head: Head::new(HEAD_HEIGHT, HEAD_RATE),
+            head: Head::new(&model.head),
             arm,
+            hand_half,
+            mass: body_model.mass,
         })
+    }
+
+    /// The whole robot's mass (kg).
+    pub fn mass(&self) -> f64 {
+        self.mass
     }
 
     /// The radius of the robot's body cylinder (m).
@@ -192,7 +195,7 @@ impl Humanoid {
 
     /// The radius of the disc the hand covers seen from above (m): its box's half-diagonal.
     pub fn hand_radius(&self) -> f64 {
-        f64::from(HAND_HALF[0]).hypot(f64::from(HAND_HALF[1]))
+        self.hand_half[0].hypot(self.hand_half[1])
     }
 
     /// Handles of the robot's rapier parts.
@@ -272,11 +275,11 @@ impl Humanoid {
 
     /// Starts moving the head, or refuses angles outside its limits.
     pub fn point_head(&mut self, pan: f64, tilt: f64) -> Result<(), Refused> {
-        if !Head::within_limits(pan, tilt) {
+        if !self.head.within_limits(pan, tilt) {
             return Err(Refused(format!(
                 "head angles ({pan}, {tilt}) outside pan {:?} tilt {:?}",
-                head::PAN_LIMITS,
-                head::TILT_LIMITS
+                self.head.pan_limits(),
+                self.head.tilt_limits()
             )));
         }
         self.head.point(pan, tilt);

@@ -16,8 +16,6 @@ use crate::world::build::groups;
 const TURN_IN_PLACE: f64 = 0.05;
 /// A waypoint counts as reached within this distance (m).
 const REACHED: f64 = 1.0e-3;
-/// Height of the cast cylinder's underside: low flat things (mats, cables) are stepped over (m).
-pub const STEP_OVER: f64 = 0.03;
 
 /// What the base is doing.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +39,8 @@ pub struct WalkParams {
     pub radius: f64,
     /// Bounding cylinder height (m).
     pub height: f64,
+    /// Height of the cast cylinder's underside: low flat things (mats, cables) are stepped over (m).
+    pub step_over: f64,
     /// Distance kept from anything in the way (m).
     pub margin: f64,
 }
@@ -158,10 +158,10 @@ fn cast(
     p: &WalkParams,
     world: &PhysicsWorld,
 ) -> (Vector2<f64>, bool) {
-    let half = ((p.height - STEP_OVER) / 2.0) as f32;
+    let half = ((p.height - p.step_over) / 2.0) as f32;
     let shape = Cylinder::new(half, p.radius as f32);
     let shape_pos = Pose::from_parts(
-        Vector::new(pos.x as f32, pos.y as f32, STEP_OVER as f32 + half),
+        Vector::new(pos.x as f32, pos.y as f32, p.step_over as f32 + half),
         Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2),
     );
     let filter = QueryFilter::new().groups(InteractionGroups::new(

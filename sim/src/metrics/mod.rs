@@ -25,7 +25,6 @@ pub mod ideal_path;
 use nalgebra::{Isometry3, Point2};
 use nudge_executive::{RunReport, State, Verdict};
 
-use crate::humanoid::ROBOT_MASS;
 use crate::scenario::{GRAVITY, Scenario};
 use crate::score::Scored;
 use crate::truth::{Movability, Truth};
@@ -55,7 +54,7 @@ impl Start {
                 Point2::new(x, y),
                 goal,
                 scenario.goal.tolerance,
-                scenario.robot.radius,
+                scenario.robot.radius(),
             ),
             poses: (0..world.objects().len())
                 .map(|i| truth.object_pose(i))
@@ -120,9 +119,10 @@ pub fn measure(start: &Start, report: &RunReport, world: &World, scored: &[Score
     let spl = start
         .ideal_path
         .map(|ideal| path_efficiency(success, ideal, effort.walked));
-    let robot_travel = ROBOT_MASS * effort.walked;
+    let robot_mass = world.humanoid().mass();
+    let robot_travel = robot_mass * effort.walked;
     let kinematic = ratio(robot_travel, robot_travel + displaced);
-    let weight_time = ROBOT_MASS * GRAVITY * report.robot_time;
+    let weight_time = robot_mass * GRAVITY * report.robot_time;
     let dynamic = ratio(weight_time, weight_time + effort.hand_impulse);
     let effort_efficiency = if success {
         0.5 * (kinematic + dynamic)

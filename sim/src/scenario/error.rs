@@ -143,6 +143,12 @@ impl fmt::Display for FieldPath {
 /// What is wrong with a scenario, without its place.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ScenarioFault {
+    /// A robot description's rule is broken (`[robot.model]`).
+    #[error("{message}")]
+    RobotModel {
+        /// What is wrong, as the description's rule says it.
+        message: String,
+    },
     /// The text is not TOML.
     #[error("TOML syntax: {message}")]
     Syntax {

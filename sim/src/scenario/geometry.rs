@@ -357,7 +357,7 @@ impl RobotSpec {
     pub fn start_footprint(&self) -> Footprint {
         Footprint::Disc {
             centre: self.start_position(),
-            radius: self.radius,
+            radius: self.radius(),
         }
     }
 }

@@ -192,7 +192,7 @@ fn span_of(doc: &SpannedDoc<'_>, path: &FieldPath) -> Range<usize> {
 
 /// Fixed-length arrays of the format, by path with indices written `[]`. serde reads `[f64; 2]` from the
 /// first two entries and ignores the rest, so a third entry is caught here rather than silently dropped.
-const FIXED_LENGTHS: [(&str, usize); 8] = [
+const FIXED_LENGTHS: [(&str, usize); 15] = [
     ("room.size", 2),
     ("room.floor_colour", 3),
     ("room.wall_colour", 3),
@@ -201,6 +201,13 @@ const FIXED_LENGTHS: [(&str, usize); 8] = [
     ("object[].position", 2),
     ("object[].colour", 3),
     ("actor[].waypoints[]", 2),
+    ("robot.model.head.pan_limits", 2),
+    ("robot.model.head.tilt_limits", 2),
+    ("robot.model.arm.reach_x", 2),
+    ("robot.model.arm.reach_y", 2),
+    ("robot.model.arm.reach_z", 2),
+    ("robot.model.arm.rest", 3),
+    ("robot.model.arm.hand_half", 3),
 ];
 
 /// The first fixed-length array in the text with extra entries (too few are already refused by serde).

@@ -124,9 +124,32 @@ fn check_room(room: &Room, field: &FieldPath) -> Checked {
 
 fn check_robot(robot: &RobotSpec, room: &Room, field: &FieldPath) -> Checked {
     all_finite(&field.key("start"), &robot.start)?;
-    positive(&field.key("radius"), robot.radius)?;
-    positive(&field.key("height"), robot.height)?;
-    positive(&field.key("walk_speed"), robot.walk_speed)?;
+    for (key, value) in [
+        ("radius", robot.radius),
+        ("height", robot.height),
+        ("walk_speed", robot.walk_speed),
+    ] {
+        if let Some(v) = value {
+            positive(&field.key(key), v)?;
+        }
+    }
+    // The description's own rules, on the model the shorthands make: a fault in a shorthand was
+    // caught above, so what breaks here lies in `[robot.model]`.
+    robot.model().validate().map_err(|v| {
+        let at = v.field.split('.').fold(field.key("model"), |path, part| {
+            match part.split_once('[') {
+                Some((key, index)) => {
+                    let path = path.key(key);
+                    match index.trim_end_matches(']').parse() {
+                        Ok(i) => path.index(i),
+                        Err(_) => path,
+                    }
+                }
+                None => path.key(part),
+            }
+        });
+        violation(at, ScenarioFault::RobotModel { message: v.message })
+    })?;
     if room.clearance(&robot.start_footprint()) < -EPSILON {
         return Err(outside(
             &field.key("start"),
@@ -259,7 +282,7 @@ fn robot_obstacles(scenario: &Scenario) -> impl Iterator<Item = (&ObjectSpec, Fo
     scenario
         .objects
         .iter()
-        .filter(|o| o.blocks_height(scenario.robot.height))
+        .filter(|o| o.blocks_height(scenario.robot.height()))
         .filter_map(|o| Some((o, o.footprint()?)))
 }
 

@@ -33,9 +33,18 @@ pub struct WristFtConfig {
 }
 
 impl Default for WristFtConfig {
+    /// The paper's robot's wrist ([`nudge_robot_model::RobotModel::default`]).
     fn default() -> Self {
+        Self::for_wrist(&nudge_robot_model::WristModel::default())
+    }
+}
+
+impl WristFtConfig {
+    /// A sensor at `wrist`'s rate with a JR3-like noise: 0.2 N and 0.01 N·m per axis, a bias of up
+    /// to 1 N per axis.
+    pub fn for_wrist(wrist: &nudge_robot_model::WristModel) -> Self {
         Self {
-            rate_hz: 1000.0,
+            rate_hz: wrist.rate_hz,
             force_noise: 0.2,
             torque_noise: 0.01,
             max_force_bias: 1.0,

@@ -36,6 +36,7 @@ use crate::sensors::wrist_ft::{WristFt, WristFtConfig, WristFtError, wrench_on_w
 use crate::surface::Surface;
 use convert::iso_from_pose;
 use effort::Effort;
+use nudge_robot_model::RobotModel;
 
 /// Physics step while the hand moves or touches (µs): the wrist sensor's 1 kHz.
 pub const FINE_STEP_US: u64 = 1_000;
@@ -134,7 +135,8 @@ pub struct World {
     steps: u64,
     fine_steps: u64,
     room_size: [f64; 2],
-    robot_height: f64,
+    /// What the robot is.
+    robot_model: RobotModel,
     effort: Effort,
     hand_touching: bool,
     touching_person: bool,
@@ -147,7 +149,8 @@ pub struct World {
 impl World {
     /// Builds the scenario's world; `seed` fixes every random choice (sensor noise, textures).
     pub fn new(scenario: &Scenario, seed: u64) -> Result<Self, WorldError> {
-        Self::with_wrist_config(scenario, seed, WristFtConfig::default())
+        let wrist = WristFtConfig::for_wrist(&scenario.robot.model().wrist);
+        Self::with_wrist_config(scenario, seed, wrist)
     }
 
     /// Like [`World::new`] with a chosen wrist sensor.
@@ -212,7 +215,7 @@ impl World {
             steps: 0,
             fine_steps: 0,
             room_size: room.size,
-            robot_height: scenario.robot.height,
+            robot_model: scenario.robot.model(),
             effort: Effort::default(),
             hand_touching: false,
             touching_person: false,
@@ -259,7 +262,12 @@ impl World {
 
     /// Height of the robot's bounding cylinder (m).
     pub fn humanoid_height(&self) -> f64 {
-        self.robot_height
+        self.robot_model.body.height
+    }
+
+    /// What the robot is: the scenario's robot description.
+    pub fn robot_model(&self) -> &RobotModel {
+        &self.robot_model
     }
 
     /// The rapier bodies.

@@ -24,6 +24,7 @@ use nalgebra::{
     Isometry2, Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2, Vector3,
 };
 use nudge_perception::{CloudFrame, ColourCloud};
+use nudge_robot_model::RobotModel;
 
 use super::{
     ActionStatus, Arm, Base, Clock, GuardedMove, HandOutcome, Head, RangeCamera, RobotError,
@@ -68,6 +69,8 @@ pub struct FakeRobot {
     pose: Isometry2<f64>,
     walk_speed: f64,
     turn_rate: f64,
+    /// Height of the head's pan/tilt centre, where the camera sits (m).
+    eye_height: f64,
     base_motion: Option<BaseMotion>,
     base_done: Option<WalkOutcome>,
     walked: f64,
@@ -93,21 +96,29 @@ pub struct FakeRobot {
 }
 
 impl FakeRobot {
-    /// A fake robot standing at `pose`, walking at 0.15 m/s, turning at 0.5 rad/s.
+    /// The paper's robot ([`RobotModel::default`]) standing at `pose`.
     pub fn new(pose: Isometry2<f64>) -> Self {
-        let hand_rest = Point3::new(0.2, -0.3, 0.8);
+        Self::with_model(pose, &RobotModel::default())
+    }
+
+    /// A fake `model` standing at `pose`: its gait, head, hand rest and camera height are the model's
+    /// (a scene's camera image is the scene's, [`FakeScene::camera`]).
+    pub fn with_model(pose: Isometry2<f64>, model: &RobotModel) -> Self {
+        let [x, y, z] = model.arm.rest;
+        let hand_rest = Point3::new(x, y, z);
         Self {
             now: 0.0,
             pose,
-            walk_speed: 0.15,
-            turn_rate: 0.5,
+            walk_speed: model.body.walk_speed,
+            turn_rate: model.body.turn_rate,
+            eye_height: model.head.height,
             base_motion: None,
             base_done: None,
             walked: 0.0,
             block_after: None,
             head: (0.0, 0.0),
             head_target: None,
-            head_rate: 1.0,
+            head_rate: model.head.rate,
             clouds: VecDeque::new(),
             hand_pos: hand_rest,
             hand_rest,
@@ -215,7 +226,7 @@ impl FakeRobot {
         let yaw = self.pose.rotation.angle() + self.head.0;
         let t = self.pose.translation.vector;
         Isometry3::from_parts(
-            Translation3::new(t.x, t.y, 1.4),
+            Translation3::new(t.x, t.y, self.eye_height),
             UnitQuaternion::from_euler_angles(0.0, self.head.1, yaw),
         )
     }

@@ -4,23 +4,24 @@
 
 use nalgebra::{Isometry2, Isometry3, Point3, Vector3};
 use nudge_perception::{CloudFrame, ColourCloud, Rgb};
+use nudge_robot_model::{CameraModel, RobotModel};
 
 use super::scene::{FakeScene, SceneBox};
 
-/// The camera's image and range, the paper's SR-4000 by default.
+/// The camera's image and range, the paper's robot's camera ([`RobotModel::default`]) by default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FakeCamera {
-    /// Columns. Default 176.
+    /// Columns.
     pub width: usize,
-    /// Rows. Default 144.
+    /// Rows.
     pub height: usize,
-    /// Horizontal field of view, edge to edge (rad). Default 43.6°.
+    /// Horizontal field of view, edge to edge (rad).
     pub h_fov: f64,
-    /// Vertical field of view, edge to edge (rad). Default 34.6°.
+    /// Vertical field of view, edge to edge (rad).
     pub v_fov: f64,
-    /// Nearest return (m). Default 0.1.
+    /// Nearest return (m).
     pub min_range: f64,
-    /// Farthest return (m). Default 5.
+    /// Farthest return (m).
     pub max_range: f64,
     /// Largest range error (m), uniform either way. Default 1.5 mm.
     pub noise: f64,
@@ -28,13 +29,20 @@ pub struct FakeCamera {
 
 impl Default for FakeCamera {
     fn default() -> Self {
+        Self::of(&RobotModel::default().camera)
+    }
+}
+
+impl FakeCamera {
+    /// `camera`'s image and range, with a millimetre and a half of range noise.
+    pub fn of(camera: &CameraModel) -> Self {
         Self {
-            width: 176,
-            height: 144,
-            h_fov: 43.6f64.to_radians(),
-            v_fov: 34.6f64.to_radians(),
-            min_range: 0.1,
-            max_range: 5.0,
+            width: camera.width,
+            height: camera.height,
+            h_fov: camera.h_fov(),
+            v_fov: camera.v_fov(),
+            min_range: camera.min_range,
+            max_range: camera.max_range,
             noise: 0.0015,
         }
     }

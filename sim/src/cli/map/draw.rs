@@ -197,7 +197,7 @@ fn draw_map(run: &MapCollector, area: &Area<'_>, right: u32) -> DrawResult {
     let px = |m: f64| ((m * area.dim_in_pixel().0 as f64 / room[0]).round() as i32).max(3);
     chart.draw_series(std::iter::once(Circle::new(
         (start.x, start.y),
-        px(run.scenario.robot.radius),
+        px(run.scenario.robot.radius()),
         TRACK.stroke_width(2),
     )))?;
     chart.draw_series(std::iter::once(Circle::new(

@@ -1,19 +1,23 @@
 //! What the colour range sensor is: image size, field of view, range limits and noise.
 
+use nudge_robot_model::{CameraModel, RobotModel};
+
 /// Parameters of the colour range sensor; [`Default`] is the paper's SR-4000 with colour cameras.
+/// The image and range are the robot's ([`ColourRangeConfig::for_camera`]); the noise is the sensor
+/// model's own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ColourRangeConfig {
-    /// Pixel columns (SR-4000: 176).
+    /// Pixel columns.
     pub width: usize,
-    /// Pixel rows (SR-4000: 144).
+    /// Pixel rows.
     pub height: usize,
-    /// Horizontal field of view, edge to edge (deg; SR-4000: 43.6).
+    /// Horizontal field of view, edge to edge (deg).
     pub h_fov_deg: f64,
-    /// Vertical field of view, edge to edge (deg; SR-4000: 34.6).
+    /// Vertical field of view, edge to edge (deg).
     pub v_fov_deg: f64,
     /// Returns nearer than this are lost (m).
     pub min_range: f64,
-    /// Returns farther than this are lost (m; the SR-4000's 5 m non-ambiguity range).
+    /// Returns farther than this are lost (m).
     pub max_range: f64,
     /// Range noise σ at `range_sigma_ref_distance`, normal incidence (m).
     pub range_sigma_ref: f64,
@@ -52,14 +56,24 @@ pub enum RayCaster {
 }
 
 impl Default for ColourRangeConfig {
+    /// The paper's robot's camera ([`RobotModel::default`]).
     fn default() -> Self {
+        Self::for_camera(&RobotModel::default().camera)
+    }
+}
+
+impl ColourRangeConfig {
+    /// A sensor with `camera`'s image and range, and the SR-4000's noise: 4 mm σ at 1.3 m growing
+    /// linearly with range (shot-noise limited) and as 1/√cos of the incidence, lost beyond 80°
+    /// incidence, 3 units of colour noise.
+    pub fn for_camera(camera: &CameraModel) -> Self {
         Self {
-            width: 176,
-            height: 144,
-            h_fov_deg: 43.6,
-            v_fov_deg: 34.6,
-            min_range: 0.1,
-            max_range: 5.0,
+            width: camera.width,
+            height: camera.height,
+            h_fov_deg: camera.h_fov_deg,
+            v_fov_deg: camera.v_fov_deg,
+            min_range: camera.min_range,
+            max_range: camera.max_range,
             range_sigma_ref: 0.004,
             range_sigma_ref_distance: 1.3,
             range_sigma_distance_exponent: 1.0,

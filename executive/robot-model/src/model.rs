@@ -1,0 +1,193 @@
+//! The robot description's types and the paper's robot as their defaults.
+
+use serde::{Deserialize, Serialize};
+
+/// Everything nudge knows about the robot's body, sensors and limits. Defaults: HRP-2 with an SR-4000
+/// on its head, as in the paper.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RobotModel {
+    /// The walking body.
+    pub body: BodyModel,
+    /// The pan/tilt head carrying the range camera.
+    pub head: HeadModel,
+    /// The colour range camera on the head.
+    pub camera: CameraModel,
+    /// The pushing arm and its hand.
+    pub arm: ArmModel,
+    /// The 6-axis force/torque sensor at the wrist.
+    pub wrist: WristModel,
+    /// The forces the hand may use and the one that says it touches.
+    pub force: ForceModel,
+}
+
+/// The walking body: a vertical cylinder for planning, and its gait.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BodyModel {
+    /// Radius of the bounding cylinder (m). HRP-2: 0.35 (its arms' span at the shoulders, 0.7 m).
+    pub radius: f64,
+    /// Height of the bounding cylinder (m). HRP-2: 1.54.
+    pub height: f64,
+    /// Walking speed (m/s). 0.15: HRP-2's careful indoor gait.
+    pub walk_speed: f64,
+    /// Turning rate on the spot (rad/s).
+    pub turn_rate: f64,
+    /// The whole robot's mass (kg): HRP-2's 58 kg with its batteries (Kaneko et al., "Humanoid robot
+    /// HRP-2", ICRA 2004). Effort metrics weigh the robot's own travel with it.
+    pub mass: f64,
+    /// Height of obstacles the feet step over (m): 3 cm, a mat or a cable.
+    pub step_over: f64,
+}
+
+impl Default for BodyModel {
+    fn default() -> Self {
+        Self {
+            radius: 0.35,
+            height: 1.54,
+            walk_speed: 0.15,
+            turn_rate: 0.5,
+            mass: 58.0,
+            step_over: 0.03,
+        }
+    }
+}
+
+/// The pan/tilt head. Angles: pan left positive, tilt down positive.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HeadModel {
+    /// Height of the pan/tilt centre above the floor (m), where the camera sits. HRP-2: 1.4.
+    pub height: f64,
+    /// Pan joint limits (rad, as a URDF writes them), right then left.
+    pub pan_limits: [f64; 2],
+    /// Tilt joint limits (rad), up then down.
+    pub tilt_limits: [f64; 2],
+    /// Joint speed per axis (rad/s).
+    pub rate: f64,
+}
+
+impl Default for HeadModel {
+    fn default() -> Self {
+        Self {
+            height: 1.4,
+            pan_limits: [-1.6, 1.6],
+            tilt_limits: [-0.5, 1.3],
+            rate: 1.0,
+        }
+    }
+}
+
+/// The colour range camera: a pinhole image of ranges and colours, at the head's pan/tilt centre
+/// looking along the head's forward axis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraModel {
+    /// Pixel columns. SR-4000: 176.
+    pub width: usize,
+    /// Pixel rows. SR-4000: 144.
+    pub height: usize,
+    /// Horizontal field of view, edge to edge (deg). SR-4000: 43.6.
+    pub h_fov_deg: f64,
+    /// Vertical field of view, edge to edge (deg). SR-4000: 34.6.
+    pub v_fov_deg: f64,
+    /// Returns nearer than this are lost (m).
+    pub min_range: f64,
+    /// Returns farther than this are lost (m). SR-4000: 5, its non-ambiguity range.
+    pub max_range: f64,
+}
+
+impl Default for CameraModel {
+    fn default() -> Self {
+        Self {
+            width: 176,
+            height: 144,
+            h_fov_deg: 43.6,
+            v_fov_deg: 34.6,
+            min_range: 0.1,
+            max_range: 5.0,
+        }
+    }
+}
+
+impl CameraModel {
+    /// Horizontal field of view, edge to edge (rad).
+    pub fn h_fov(&self) -> f64 {
+        self.h_fov_deg.to_radians()
+    }
+
+    /// Vertical field of view, edge to edge (rad).
+    pub fn v_fov(&self) -> f64 {
+        self.v_fov_deg.to_radians()
+    }
+}
+
+/// The pushing arm: where its hand can be, in `base_link` (x forward, y left, z up from the floor).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ArmModel {
+    /// Nearest and farthest the hand reaches ahead of the body axis (m).
+    pub reach_x: [f64; 2],
+    /// Farthest the hand reaches to the right and to the left (m).
+    pub reach_y: [f64; 2],
+    /// Lowest and highest the hand reaches (m).
+    pub reach_z: [f64; 2],
+    /// The hand's rest position beside the body, inside the bounding cylinder (m).
+    pub rest: [f64; 3],
+    /// Half extents of the hand's box (m): thickness along x (the palm faces forward), width, height.
+    pub hand_half: [f64; 3],
+    /// Mass of the hand (kg).
+    pub hand_mass: f64,
+}
+
+impl Default for ArmModel {
+    fn default() -> Self {
+        Self {
+            reach_x: [0.2, 0.8],
+            reach_y: [-0.4, 0.4],
+            reach_z: [0.2, 1.2],
+            rest: [0.22, -0.18, 0.8],
+            hand_half: [0.02, 0.05, 0.05],
+            hand_mass: 0.5,
+        }
+    }
+}
+
+/// The wrist's 6-axis force/torque sensor.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WristModel {
+    /// Sample rate (Hz): the paper's 1 kHz control loop.
+    pub rate_hz: f64,
+}
+
+impl Default for WristModel {
+    fn default() -> Self {
+        Self { rate_hz: 1000.0 }
+    }
+}
+
+/// Forces at the hand (N), read as the wrist's force norm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ForceModel {
+    /// Above this the hand counts as touching: ten times the simulated wrist's noise (0.2 N per
+    /// axis), so noise alone never reads as a touch.
+    pub contact_threshold: f64,
+    /// Limit of a push test's guarded move: reaching it means static. The paper: 20 N.
+    pub test_limit: f64,
+    /// Limit of a clearing stroke. The object is known to move, so this only has to catch a jam; it
+    /// sits above the test's limit because every stroke starts with an impact, and on a 4 kg chair
+    /// sliding at 15.7 N a 2 cm/s impact alone reaches 18–20 N.
+    pub clear_limit: f64,
+}
+
+impl Default for ForceModel {
+    fn default() -> Self {
+        Self {
+            contact_threshold: 2.0,
+            test_limit: 20.0,
+            clear_limit: 30.0,
+        }
+    }
+}
