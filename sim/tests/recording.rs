@@ -11,7 +11,8 @@ use std::sync::OnceLock;
 use nudge_executive::record::{RUN_METADATA, SUMMARY_METADATA, TAPE_TOPIC, WristWrench, topics};
 use prost::Message as _;
 
-mod python_mcap;
+#[path = "../../tests/python/python_env.rs"]
+mod python_env;
 
 const NUDGE: &str = env!("CARGO_BIN_EXE_nudge");
 
@@ -309,7 +310,7 @@ fn the_python_mcap_package_reads_the_recording() {
     // Invariant: the official Python reader sees the same topics, counts, time span, metadata and attachment as the mcap crate, and its protobuf decoders decode every protobuf message of every topic (the wrench's peak the same as the crate's own decoding).
     let rec = recording();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/read_mcap.py");
-    let python = python_mcap::python();
+    let python = python_env::python();
     let out = Command::new(&python)
         .arg(&script)
         .arg(&rec.mcap)

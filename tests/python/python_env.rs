@@ -1,5 +1,7 @@
-//! A Python with the official `mcap` reader, for the recording tests: a virtual environment under the
-//! target directory, created on first use from `tests/python/requirements.txt` (pinned versions).
+//! A pinned Python for the interop tests — the official `mcap` reader with its protobuf decoders for
+//! the recording tests, `rosbags` for the ROS 2 CDR tests: a virtual environment under the target
+//! directory, created on first use from `tests/python/requirements.txt` (pinned versions). Test
+//! files of any crate take it in with `#[path = ".../tests/python/python_env.rs"] mod python_env;`.
 //!
 //! Needs `python3` (3.8 or newer, with its `venv` module and pip) and a package index: PyPI, or the
 //! one pip's own settings name (`PIP_INDEX_URL`, `PIP_FIND_LINKS` for a folder of wheels). Anything
@@ -11,11 +13,11 @@ use std::process::{Command, Output};
 use std::sync::OnceLock;
 
 /// The pinned requirements, as committed.
-const REQUIREMENTS: &str = include_str!("../../../tests/python/requirements.txt");
+const REQUIREMENTS: &str = include_str!("requirements.txt");
 
 /// Where the environment lives: under `target/`, so it is never committed.
 fn venv_dir() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR")).join("python-mcap")
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("python-interop")
 }
 
 fn interpreter(venv: &Path) -> PathBuf {
@@ -63,8 +65,8 @@ fn create(dir: &Path) {
     run(
         python3,
         &["-m", "venv", dir.to_str().expect("utf-8 target path")],
-        "creating a Python virtual environment for the mcap reader (python3 -m venv)",
-        "The recording tests need python3 with its venv module (Debian: apt install python3-venv).",
+        "creating a Python virtual environment for the interop tests (python3 -m venv)",
+        "The interop tests need python3 with its venv module (Debian: apt install python3-venv).",
     );
     let requirements = dir.join("requirements.txt");
     std::fs::write(&requirements, REQUIREMENTS).expect("write requirements into the venv");
@@ -79,12 +81,12 @@ fn create(dir: &Path) {
             "-r",
             requirements.to_str().expect("utf-8 target path"),
         ],
-        "installing the pinned Python mcap reader (tests/python/requirements.txt)",
+        "installing the pinned interop Python (tests/python/requirements.txt)",
         "pip needs PyPI, or an index or wheel folder named by PIP_INDEX_URL or PIP_FIND_LINKS.",
     );
 }
 
-/// The environment's Python, with `mcap` importable: created on first use, kept between runs, and
+/// The environment's Python, with the requirements importable: created on first use, kept between runs, and
 /// created afresh when the requirements file changed.
 pub fn python() -> PathBuf {
     static PYTHON: OnceLock<PathBuf> = OnceLock::new();
