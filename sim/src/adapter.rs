@@ -158,6 +158,11 @@ impl WristSensor for SimRobot {
     fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
         Ok(self.world.wrist_sensor().drain())
     }
+
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        self.world.wrist_sensor().discard();
+        Ok(())
+    }
 }
 
 impl Arm for SimRobot {

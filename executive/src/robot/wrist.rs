@@ -13,4 +13,11 @@ pub trait WristSensor {
     /// Every reading taken since the previous call, oldest first, at the sensor's own rate — the force
     /// trace of a push test.
     fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError>;
+
+    /// Forgets every reading taken so far, so the next drain starts now: what the runner does before
+    /// a stroke, after a walk that may have left a minute of readings waiting. An adapter that can
+    /// drop them without handing them over should; the default drains them and drops them.
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        self.drain_wrenches().map(drop)
+    }
 }

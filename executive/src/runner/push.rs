@@ -436,7 +436,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // Pushing those millimetres off the planned line is harmless.
         let y = clamp_lateral(y, self.config.push.reach_y);
         self.robot.tare()?;
-        self.robot.drain_wrenches()?;
+        self.robot.discard_wrenches()?;
         let start = Point3::new(from_x, y, z);
         let mut log = StrokeLog::default();
         let guarded_from = match approach {

@@ -229,6 +229,10 @@ impl<R: Robot> Watchdog<R> {
     pub(crate) fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
         self.inner.drain_wrenches()
     }
+
+    pub(crate) fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        self.inner.discard_wrenches()
+    }
 }
 
 /// [`Arm`](crate::robot::Arm): guarded moves and retracts get a deadline.

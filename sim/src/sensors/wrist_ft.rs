@@ -244,6 +244,11 @@ impl WristFt {
         self.buffer.drain(..).collect()
     }
 
+    /// Forgets the buffered samples.
+    pub fn discard(&mut self) {
+        self.buffer.clear();
+    }
+
     fn raw(&mut self, truth: &Wrench) -> Wrench {
         let f = Vector3::from_fn(|_, _| self.force_noise.sample(&mut self.rng));
         let t = Vector3::from_fn(|_, _| self.torque_noise.sample(&mut self.rng));

@@ -42,6 +42,8 @@ pub enum Request {
     Wrench,
     /// `WristSensor::drain_wrenches`.
     DrainWrenches,
+    /// `WristSensor::discard_wrenches`.
+    DiscardWrenches,
     /// `Arm::hand_position`.
     HandPosition,
     /// `Arm::start_guarded_move(motion)`.
@@ -156,6 +158,7 @@ impl fmt::Display for Request {
             Request::Tare => write!(f, "tare()"),
             Request::Wrench => write!(f, "wrench()"),
             Request::DrainWrenches => write!(f, "drain_wrenches()"),
+            Request::DiscardWrenches => write!(f, "discard_wrenches()"),
             Request::HandPosition => write!(f, "hand_position()"),
             Request::StartGuardedMove(m) => write!(
                 f,

@@ -193,6 +193,7 @@ fn tag(request: &Request) -> u8 {
         Request::StartRetract => 17,
         Request::HandStatus => 18,
         Request::StopHand => 19,
+        Request::DiscardWrenches => 20,
     }
 }
 
@@ -347,6 +348,7 @@ fn decode_entry(d: &mut Dec<'_>) -> Result<Entry, DecodeError> {
             Reply::HandStatus(read_result(d, |d| read_status(d, read_hand_outcome))?),
         ),
         19 => Entry::Call(Request::StopHand, Reply::Done(done(d)?)),
+        20 => Entry::Call(Request::DiscardWrenches, Reply::Done(done(d)?)),
         other => {
             return Err(DecodeError {
                 at,

@@ -292,6 +292,10 @@ impl WristSensor for ReplayRobot {
     fn drain_wrenches(&mut self) -> Result<Vec<Stamped<Wrench>>, RobotError> {
         answer!(self, Request::DrainWrenches, Wrenches)
     }
+
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        answer!(self, Request::DiscardWrenches, Done)
+    }
 }
 
 impl Arm for ReplayRobot {

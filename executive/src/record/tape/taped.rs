@@ -150,6 +150,12 @@ impl<R: Robot> WristSensor for Taped<R> {
         self.tape(|| (Request::DrainWrenches, Reply::Wrenches(r.clone())));
         r
     }
+
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        let r = self.inner.discard_wrenches();
+        self.tape(|| (Request::DiscardWrenches, Reply::Done(r.clone())));
+        r
+    }
 }
 
 impl<R: Robot> Arm for Taped<R> {

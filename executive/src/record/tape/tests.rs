@@ -129,6 +129,7 @@ fn every_entry() -> Vec<Entry> {
             Request::DrainWrenches,
             Reply::Wrenches(Ok(vec![wrench(5.001), wrench(5.002)])),
         ),
+        Entry::Call(Request::DiscardWrenches, Reply::Done(Ok(()))),
         Entry::Call(
             Request::HandPosition,
             Reply::Hand(Ok(Stamped {

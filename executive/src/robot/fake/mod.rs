@@ -521,6 +521,12 @@ impl WristSensor for FakeRobot {
         self.call("wrist", "drain_wrenches".into())?;
         Ok(std::mem::take(&mut self.samples))
     }
+
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        self.call("wrist", "discard_wrenches".into())?;
+        self.samples.clear();
+        Ok(())
+    }
 }
 
 impl Arm for FakeRobot {

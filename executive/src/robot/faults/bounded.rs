@@ -157,6 +157,11 @@ impl<R: Robot> WristSensor for Bounded<R> {
         self.count("wrist")?;
         self.inner.drain_wrenches()
     }
+
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        self.count("wrist")?;
+        self.inner.discard_wrenches()
+    }
 }
 
 impl<R: Robot> Arm for Bounded<R> {

@@ -141,6 +141,11 @@ impl<R: Robot> WristSensor for CallError<R> {
         self.check("wrist", "drain_wrenches")?;
         self.inner.drain_wrenches()
     }
+
+    fn discard_wrenches(&mut self) -> Result<(), RobotError> {
+        self.check("wrist", "discard_wrenches")?;
+        self.inner.discard_wrenches()
+    }
 }
 
 impl<R: Robot> Arm for CallError<R> {

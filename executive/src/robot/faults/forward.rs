@@ -94,6 +94,9 @@ macro_rules! forward {
             > {
                 $crate::robot::WristSensor::drain_wrenches(&mut self.inner)
             }
+            fn discard_wrenches(&mut self) -> Result<(), $crate::robot::RobotError> {
+                $crate::robot::WristSensor::discard_wrenches(&mut self.inner)
+            }
         }
     };
     (@ $ty:ident, Arm) => {
