@@ -128,7 +128,7 @@ fn bench_frame(c: &mut Criterion) {
     let valid = sensor.capture(&scene, &pose, 0.0, 0).valid_count();
     eprintln!(
         "range_frame: {valid} of {} pixels return, {} rayon threads",
-        sensor.config().width * sensor.config().height,
+        sensor.config().camera.width * sensor.config().camera.height,
         rayon::current_num_threads()
     );
 

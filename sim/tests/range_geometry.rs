@@ -30,12 +30,12 @@ fn box_ahead_scene() -> TestScene {
 fn face_pixels(sensor: &ColourRangeSensor, margin: f64) -> Vec<(usize, f64)> {
     let c = sensor.config();
     let mut out = Vec::new();
-    for row in 0..c.height {
-        for col in 0..c.width {
+    for row in 0..c.camera.height {
+        for col in 0..c.camera.width {
             let d = sensor.ray_direction(row, col).expect("inside the image");
             let t = 2.0 / d.x;
             if (t * d.y).abs() < 0.5 - margin && (t * d.z).abs() < 0.5 - margin {
-                out.push((row * c.width + col, t));
+                out.push((row * c.camera.width + col, t));
             }
         }
     }
@@ -80,7 +80,10 @@ fn box_two_metres_ahead_has_small_mean_range_error_and_its_colour() {
     for &(i, truth) in &face {
         let r = range_of(&cloud, i).expect("a face pixel has a return");
         let d = sensor
-            .ray_direction(i / sensor.config().width, i % sensor.config().width)
+            .ray_direction(
+                i / sensor.config().camera.width,
+                i % sensor.config().camera.width,
+            )
             .expect("inside the image");
         let sigma = sensor.config().range_sigma(truth, d.x);
         err_sum += r - truth;
@@ -114,7 +117,7 @@ fn returns_past_max_range_and_inside_min_range_are_nan() {
     let c = sensor.config().clone();
     let slant = |i: usize, x: f64| {
         let d = sensor
-            .ray_direction(i / c.width, i % c.width)
+            .ray_direction(i / c.camera.width, i % c.camera.width)
             .expect("inside the image");
         x / d.x
     };
@@ -132,8 +135,8 @@ fn returns_past_max_range_and_inside_min_range_are_nan() {
         let (mut kept, mut lost) = (0, 0);
         for i in 0..cloud.len() {
             let r = slant(i, wall_x);
-            let in_limits = r > c.min_range + 1e-4 && r < c.max_range - 1e-4;
-            let out_of_limits = r < c.min_range - 1e-4 || r > c.max_range + 1e-4;
+            let in_limits = r > c.camera.min_range + 1e-4 && r < c.camera.max_range - 1e-4;
+            let out_of_limits = r < c.camera.min_range - 1e-4 || r > c.camera.max_range + 1e-4;
             if in_limits {
                 assert!(cloud.point(i).is_some(), "slot {i} at {r} m lost");
                 kept += 1;
@@ -152,7 +155,10 @@ fn returns_past_max_range_and_inside_min_range_are_nan() {
 
     let nothing = TestScene::empty();
     let cloud = nothing.capture(&sensor, &pose([0.0, 0.0, 0.0], 0.0, 0.0), 3, None);
-    assert_eq!((cloud.width(), cloud.height()), (c.width, c.height));
+    assert_eq!(
+        (cloud.width(), cloud.height()),
+        (c.camera.width, c.camera.height)
+    );
     assert_eq!(cloud.valid_count(), 0);
 }
 
@@ -175,7 +181,7 @@ fn the_robots_own_body_is_seen_through_and_its_parts_are_filtered() {
         ..noise_free()
     });
     let c = filtered.config();
-    let centre = (c.height / 2) * c.width + c.width / 2;
+    let centre = (c.camera.height / 2) * c.camera.width + c.camera.width / 2;
     let at = pose([0.0, 0.0, 1.0], 0.0, 0.0);
 
     let excluded = scene.capture(&filtered, &at, 5, Some(robot));
@@ -279,9 +285,9 @@ fn layout_is_row_major_from_the_top_left() {
     for (centre, left) in [([2.0, 0.5, 1.0], true), ([2.0, 0.0, 1.4], false)] {
         let inside = |row: usize, col: usize| {
             if left {
-                col < c.width / 2
+                col < c.camera.width / 2
             } else {
-                row < c.height / 2
+                row < c.camera.height / 2
             }
         };
         let mut scene = TestScene::empty();
@@ -302,7 +308,7 @@ fn layout_is_row_major_from_the_top_left() {
         assert!(hits.len() > 200, "{} returns", hits.len());
         for i in hits {
             assert!(
-                inside(i / c.width, i % c.width),
+                inside(i / c.camera.width, i % c.camera.width),
                 "slot {i} outside the expected half"
             );
         }
@@ -356,14 +362,14 @@ fn grazing_returns_are_lost() {
     let sensor = ColourRangeSensor::new(noise_free());
     let c = sensor.config().clone();
     let cloud = scene.capture(&sensor, &pose([0.0, 0.0, 0.3], 0.0, 0.0), 2, None);
-    let col = c.width / 2;
+    let col = c.camera.width / 2;
     let (mut lost, mut kept) = (0, 0);
-    for row in c.height / 2..c.height {
+    for row in c.camera.height / 2..c.camera.height {
         let d = sensor.ray_direction(row, col).expect("inside the image");
         let depression = (-d.z).asin().to_degrees();
         let range = 0.3 / -d.z;
-        let i = row * c.width + col;
-        if depression < 90.0 - c.max_incidence_deg - 0.2 && range < c.max_range {
+        let i = row * c.camera.width + col;
+        if depression < 90.0 - c.max_incidence_deg - 0.2 && range < c.camera.max_range {
             assert!(cloud.point(i).is_none(), "row {row} at {depression}° kept");
             lost += 1;
         } else if depression > 90.0 - c.max_incidence_deg + 0.2 {
@@ -399,12 +405,18 @@ fn an_invalid_config_or_pose_captures_nothing_without_panicking() {
     let scene = box_ahead_scene();
     for bad in [
         ColourRangeConfig {
-            h_fov_deg: -3.0,
+            camera: nudge_robot_model::CameraModel {
+                h_fov_deg: -3.0,
+                ..Default::default()
+            },
             ..ColourRangeConfig::default()
         },
         ColourRangeConfig {
-            width: usize::MAX,
-            height: 3,
+            camera: nudge_robot_model::CameraModel {
+                width: usize::MAX,
+                height: 3,
+                ..Default::default()
+            },
             ..ColourRangeConfig::default()
         },
     ] {

@@ -47,11 +47,11 @@ fn range_sigma_on_a_wall_at_1_3_m_is_4_mm() {
     let mut errors = Vec::new();
     for seed in 0..8 {
         let cloud = scene.capture(&sensor, &at, seed, None);
-        for row in c.height / 2 - 12..c.height / 2 + 12 {
-            for col in c.width / 2 - 12..c.width / 2 + 12 {
+        for row in c.camera.height / 2 - 12..c.camera.height / 2 + 12 {
+            for col in c.camera.width / 2 - 12..c.camera.width / 2 + 12 {
                 let d = sensor.ray_direction(row, col).expect("inside the image");
                 let truth = 1.3 / d.x;
-                let r = range_of(&cloud, row * c.width + col).expect("the wall returns");
+                let r = range_of(&cloud, row * c.camera.width + col).expect("the wall returns");
                 errors.push(r - truth);
             }
         }
@@ -75,10 +75,10 @@ fn range_sigma_grows_with_distance() {
         let mut n = 0.0;
         for seed in 0..4 {
             let cloud = scene.capture(&sensor, &at, seed, None);
-            for row in c.height / 2 - 10..c.height / 2 + 10 {
-                for col in c.width / 2 - 10..c.width / 2 + 10 {
+            for row in c.camera.height / 2 - 10..c.camera.height / 2 + 10 {
+                for col in c.camera.width / 2 - 10..c.camera.width / 2 + 10 {
                     let d = sensor.ray_direction(row, col).expect("inside the image");
-                    let r = range_of(&cloud, row * c.width + col).expect("the wall returns");
+                    let r = range_of(&cloud, row * c.camera.width + col).expect("the wall returns");
                     sq += (r - distance / d.x).powi(2);
                     n += 1.0;
                 }

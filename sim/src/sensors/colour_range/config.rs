@@ -7,18 +7,8 @@ use nudge_robot_model::{CameraModel, RobotModel};
 /// model's own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ColourRangeConfig {
-    /// Pixel columns.
-    pub width: usize,
-    /// Pixel rows.
-    pub height: usize,
-    /// Horizontal field of view, edge to edge (deg).
-    pub h_fov_deg: f64,
-    /// Vertical field of view, edge to edge (deg).
-    pub v_fov_deg: f64,
-    /// Returns nearer than this are lost (m).
-    pub min_range: f64,
-    /// Returns farther than this are lost (m).
-    pub max_range: f64,
+    /// The camera: image size, fields of view and range limits, the robot description's.
+    pub camera: CameraModel,
     /// Range noise σ at `range_sigma_ref_distance`, normal incidence (m).
     pub range_sigma_ref: f64,
     /// The distance at which `range_sigma_ref` holds (m).
@@ -68,12 +58,7 @@ impl ColourRangeConfig {
     /// incidence, 3 units of colour noise.
     pub fn for_camera(camera: &CameraModel) -> Self {
         Self {
-            width: camera.width,
-            height: camera.height,
-            h_fov_deg: camera.h_fov_deg,
-            v_fov_deg: camera.v_fov_deg,
-            min_range: camera.min_range,
-            max_range: camera.max_range,
+            camera: camera.clone(),
             range_sigma_ref: 0.004,
             range_sigma_ref_distance: 1.3,
             range_sigma_distance_exponent: 1.0,
@@ -133,30 +118,33 @@ pub enum ColourRangeConfigError {
 impl ColourRangeConfig {
     /// Checks that the configuration describes a sensor that can see something.
     pub fn validate(&self) -> Result<(), ColourRangeConfigError> {
-        if self.width == 0
-            || self.height == 0
+        if self.camera.width == 0
+            || self.camera.height == 0
             || self
+                .camera
                 .width
-                .checked_mul(self.height)
+                .checked_mul(self.camera.height)
                 .is_none_or(|n| n > MAX_PIXELS)
         {
             return Err(ColourRangeConfigError::ImageSize {
-                width: self.width,
-                height: self.height,
+                width: self.camera.width,
+                height: self.camera.height,
             });
         }
         let fov_ok = |deg: f64| deg > 0.0 && deg < 180.0;
-        if !(fov_ok(self.h_fov_deg) && fov_ok(self.v_fov_deg)) {
+        if !(fov_ok(self.camera.h_fov_deg) && fov_ok(self.camera.v_fov_deg)) {
             return Err(ColourRangeConfigError::FieldOfView {
-                h_fov_deg: self.h_fov_deg,
-                v_fov_deg: self.v_fov_deg,
+                h_fov_deg: self.camera.h_fov_deg,
+                v_fov_deg: self.camera.v_fov_deg,
             });
         }
-        if !(self.min_range >= 0.0 && self.min_range < self.max_range && self.max_range.is_finite())
+        if !(self.camera.min_range >= 0.0
+            && self.camera.min_range < self.camera.max_range
+            && self.camera.max_range.is_finite())
         {
             return Err(ColourRangeConfigError::RangeLimits {
-                min_range: self.min_range,
-                max_range: self.max_range,
+                min_range: self.camera.min_range,
+                max_range: self.camera.max_range,
             });
         }
         for (name, value) in [
@@ -222,8 +210,8 @@ mod tests {
     fn default_config_is_the_sr4000_and_valid() {
         // The default configuration is the paper's SR-4000 (176 × 144, 43.6° × 34.6°) and validates.
         let c = ColourRangeConfig::default();
-        assert_eq!((c.width, c.height), (176, 144));
-        assert_eq!((c.h_fov_deg, c.v_fov_deg), (43.6, 34.6));
+        assert_eq!((c.camera.width, c.camera.height), (176, 144));
+        assert_eq!((c.camera.h_fov_deg, c.camera.v_fov_deg), (43.6, 34.6));
         assert!(c.validate().is_ok());
         assert!((c.range_sigma(1.3, 1.0) - 0.004).abs() < 1e-12);
     }

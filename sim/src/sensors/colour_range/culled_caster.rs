@@ -25,9 +25,9 @@ impl<'c> Leaves<'c> {
     /// the scene's filter (robot body excluded, trigger volumes skipped).
     pub(super) fn gather(frame: &Frame<'c>) -> Self {
         let config = &frame.sensor.config;
-        let half_w = (config.h_fov_deg.to_radians() / 2.0).tan() as Real;
-        let half_h = (config.v_fov_deg.to_radians() / 2.0).tan() as Real;
-        let max_range = config.max_range as Real;
+        let half_w = (config.camera.h_fov_deg.to_radians() / 2.0).tan() as Real;
+        let half_h = (config.camera.v_fov_deg.to_radians() / 2.0).tan() as Real;
+        let max_range = config.camera.max_range as Real;
         // Every point within max_range along a ray of the frustum lies in the pyramid from the
         // sensor to the far rectangle at x = max_range.
         let mut frustum_points = vec![frame.pose.translation];
@@ -91,8 +91,8 @@ impl<'c> Leaves<'c> {
             leaves,
             half_w,
             half_h,
-            width: config.width,
-            height: config.height,
+            width: config.camera.width,
+            height: config.camera.height,
         }
     }
 

@@ -126,10 +126,10 @@ impl ColourRangeSensor {
     /// The unit direction of the ray through pixel (`row`, `col`) in the sensor frame, or `None`
     /// outside the image.
     pub fn ray_direction(&self, row: usize, col: usize) -> Option<Vector3<f64>> {
-        if row >= self.config.height || col >= self.config.width {
+        if row >= self.config.camera.height || col >= self.config.camera.width {
             return None;
         }
-        let d = self.directions.get(row * self.config.width + col)?;
+        let d = self.directions.get(row * self.config.camera.width + col)?;
         Some(Vector3::new(f64::from(d.x), f64::from(d.y), f64::from(d.z)))
     }
 
@@ -145,7 +145,7 @@ impl ColourRangeSensor {
         stamp: f64,
         frame_seed: u64,
     ) -> ColourCloud {
-        let (width, height) = (self.config.width, self.config.height);
+        let (width, height) = (self.config.camera.width, self.config.camera.height);
         let n = self.directions.len();
         if n == 0 {
             // Only an invalid configuration leaves the sensor without rays.
@@ -210,13 +210,13 @@ impl ColourRangeSensor {
 /// Pixel-centre ray directions on a tangent-plane grid, row-major, row 0 at the top, column 0 at the
 /// left (+y) when looking along +x.
 fn pixel_directions(config: &ColourRangeConfig) -> Vec<Vector> {
-    let half_w = (config.h_fov_deg.to_radians() / 2.0).tan();
-    let half_h = (config.v_fov_deg.to_radians() / 2.0).tan();
-    let (w, h) = (config.width as f64, config.height as f64);
-    let mut dirs = Vec::with_capacity(config.width * config.height);
-    for row in 0..config.height {
+    let half_w = (config.camera.h_fov_deg.to_radians() / 2.0).tan();
+    let half_h = (config.camera.v_fov_deg.to_radians() / 2.0).tan();
+    let (w, h) = (config.camera.width as f64, config.camera.height as f64);
+    let mut dirs = Vec::with_capacity(config.camera.width * config.camera.height);
+    for row in 0..config.camera.height {
         let up = half_h * (1.0 - (2.0 * row as f64 + 1.0) / h);
-        for col in 0..config.width {
+        for col in 0..config.camera.width {
             let left = half_w * (1.0 - (2.0 * col as f64 + 1.0) / w);
             let d = Vector3::new(1.0, left, up).normalize();
             dirs.push(Vector::new(d.x as Real, d.y as Real, d.z as Real));
@@ -241,23 +241,36 @@ mod tests {
 
     #[test]
     fn invalid_configs_are_refused_and_give_empty_captures_not_panics() {
+        use nudge_robot_model::CameraModel;
         // Bad configurations are errors from try_new and never make new() panic.
         for bad in [
             ColourRangeConfig {
-                width: 0,
+                camera: CameraModel {
+                    width: 0,
+                    ..CameraModel::default()
+                },
                 ..Default::default()
             },
             ColourRangeConfig {
-                width: usize::MAX,
-                height: 2,
+                camera: CameraModel {
+                    width: usize::MAX,
+                    height: 2,
+                    ..CameraModel::default()
+                },
                 ..Default::default()
             },
             ColourRangeConfig {
-                h_fov_deg: 180.0,
+                camera: CameraModel {
+                    h_fov_deg: 180.0,
+                    ..CameraModel::default()
+                },
                 ..Default::default()
             },
             ColourRangeConfig {
-                min_range: 6.0,
+                camera: CameraModel {
+                    min_range: 6.0,
+                    ..CameraModel::default()
+                },
                 ..Default::default()
             },
             ColourRangeConfig {
@@ -282,12 +295,12 @@ mod tests {
         let c = sensor.config().clone();
         let top_left = sensor.ray_direction(0, 0).expect("inside the image");
         let bottom_right = sensor
-            .ray_direction(c.height - 1, c.width - 1)
+            .ray_direction(c.camera.height - 1, c.camera.width - 1)
             .expect("inside the image");
-        let half_w = (c.h_fov_deg.to_radians() / 2.0).tan();
-        let half_h = (c.v_fov_deg.to_radians() / 2.0).tan();
-        let pixel_w = 2.0 * half_w / c.width as f64;
-        let pixel_h = 2.0 * half_h / c.height as f64;
+        let half_w = (c.camera.h_fov_deg.to_radians() / 2.0).tan();
+        let half_h = (c.camera.v_fov_deg.to_radians() / 2.0).tan();
+        let pixel_w = 2.0 * half_w / c.camera.width as f64;
+        let pixel_h = 2.0 * half_h / c.camera.height as f64;
         assert!((top_left.y / top_left.x - (half_w - pixel_w / 2.0)).abs() < 1e-6);
         assert!((top_left.z / top_left.x - (half_h - pixel_h / 2.0)).abs() < 1e-6);
         assert!((bottom_right.y / bottom_right.x + (half_w - pixel_w / 2.0)).abs() < 1e-6);
@@ -298,6 +311,6 @@ mod tests {
                 .iter()
                 .all(|d| (d.length() - 1.0).abs() < 1e-6)
         );
-        assert!(sensor.ray_direction(c.height, 0).is_none());
+        assert!(sensor.ray_direction(c.camera.height, 0).is_none());
     }
 }

@@ -54,9 +54,9 @@ impl Frame<'_> {
         out: RowOut<'_>,
     ) {
         let config = &self.sensor.config;
-        let width = config.width;
-        let min_range = config.min_range as Real;
-        let max_range = config.max_range as Real;
+        let width = config.camera.width;
+        let min_range = config.camera.min_range as Real;
+        let max_range = config.camera.max_range as Real;
         let first = row * width;
         let dirs = &self.sensor.directions[first..first + width];
         caster.begin_row(row);
