@@ -113,4 +113,10 @@ fn the_shorthands_and_the_default_are_the_papers_robot() {
     let model = s.robot.model();
     assert_eq!((model.body.radius, model.body.walk_speed), (0.3, 0.2));
     assert_eq!(model.body.height, RobotModel::default().body.height);
+    let both = text.replace("[goal]", "[robot.model.body]\nradius = 0.4\n[goal]");
+    let e = Scenario::from_toml_str(&both, "both.toml").expect_err("two radii");
+    assert_eq!(
+        e.to_string(),
+        "both.toml:6:10: robot.radius: set here and as robot.model.body.radius (0.4): keep one"
+    );
 }

@@ -133,6 +133,31 @@ fn check_robot(robot: &RobotSpec, room: &Room, field: &FieldPath) -> Checked {
             positive(&field.key(key), v)?;
         }
     }
+    // A shorthand and the body field it stands for, both set to different values: one would be
+    // ignored without a word.
+    let body = &robot.model.body;
+    let paper = nudge_robot_model::BodyModel::default();
+    for (key, shorthand, in_model, default) in [
+        ("radius", robot.radius, body.radius, paper.radius),
+        ("height", robot.height, body.height, paper.height),
+        (
+            "walk_speed",
+            robot.walk_speed,
+            body.walk_speed,
+            paper.walk_speed,
+        ),
+    ] {
+        if shorthand.is_some_and(|v| v != in_model) && in_model != default {
+            return Err(violation(
+                field.key(key),
+                ScenarioFault::RobotModel {
+                    message: format!(
+                        "set here and as robot.model.body.{key} ({in_model}): keep one"
+                    ),
+                },
+            ));
+        }
+    }
     // The description's own rules, on the model the shorthands make: a fault in a shorthand was
     // caught above, so what breaks here lies in `[robot.model]`.
     robot.model().validate().map_err(|v| {
