@@ -15,8 +15,8 @@ const REACH: f64 = 0.1;
 /// Spacing of the points at which a footprint is asked about (m): the grid's 5 cm cell.
 const STEP: f64 = 0.05;
 
-/// How many of `obstacles` are ghosts: no point of its footprint (sampled every [`STEP`]) has
-/// anything true within [`REACH`].
+/// How many of `obstacles` are ghosts: no point of its footprint (sampled every 5 cm) has anything
+/// true within reach of it (`REACH`).
 pub fn count(obstacles: &[Prism], truth: &Truth<'_>) -> u32 {
     obstacles.iter().filter(|p| is_ghost(p, truth)).count() as u32
 }

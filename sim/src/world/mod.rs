@@ -357,8 +357,8 @@ impl World {
             .map(|b| iso_from_pose(b.position()))
     }
 
-    /// Where object `i` stood at `time` (s of simulated time), to within [`pose_log::LOG_STEP`] and
-    /// [`pose_log::LOG_TURN`]; its pose at the start for times before then.
+    /// Where object `i` stood at `time` (s of simulated time), to within the pose log's step and
+    /// turn (`pose_log::LOG_STEP`, `pose_log::LOG_TURN`); its pose at the start for times before then.
     pub fn object_pose_at(&self, i: usize, time: f64) -> Option<Isometry3<f64>> {
         let time_us = if time.is_finite() {
             (time.max(0.0) * 1.0e6) as u64

@@ -6,8 +6,8 @@ use super::FaultWindow;
 use super::forward::{fault, forward, spoiled_wrist};
 use crate::robot::{Robot, Stamped, Wrench};
 
-/// While its window fires, wrist readings (from [`WristSensor::wrench`] and every sample of
-/// [`WristSensor::drain_wrenches`]) carry NaN force and torque: what a sensor driver that lost its
+/// While its window fires, wrist readings (from [`crate::robot::WristSensor::wrench`] and every sample
+/// of [`crate::robot::WristSensor::drain_wrenches`]) carry NaN force and torque: what a sensor driver that lost its
 /// calibration or a division by a zero gain gives. Each reading is a chance. A NaN compares false
 /// with every threshold, so an executive that only asks "is the force above the limit?" never sees
 /// it. The adapter's own guard reads its sensor, not this (see [`super`]). Every other call is

@@ -24,9 +24,9 @@ pub struct ColourRangeConfig {
     pub colour_noise_sigma: f64,
     /// Colour of returns from colliders the surface lookup does not know.
     pub unknown_colour: [u8; 3],
-    /// Drop returns from the robot's own parts (surface owner [`Owner::Robot`]), like ROS's
+    /// Drop returns from the robot's own parts (surface owner [`crate::surface::Owner::Robot`]), like ROS's
     /// robot_self_filter: the pixel is lost, not seen through. The body carrying the sensor is
-    /// excluded altogether through [`SensorScene::exclude`].
+    /// excluded altogether through [`super::SensorScene::exclude`].
     pub self_filter: bool,
     /// How rays find their nearest surface.
     pub caster: RayCaster,

@@ -15,7 +15,7 @@
 //!   a = 1, b = 0.5: shot-noise-limited, which matches the SR-4000's ~1 cm spread at its 5 m limit;
 //!   a = 2 (background-limited, σ ≈ 6 cm at 5 m) is available for a harsher sensor. Returns nearer than `min_range`, beyond `max_range` (no phase wrap is modelled:
 //!   the sensor's amplitude filter drops them) or at grazing incidence are lost.
-//! - **Colour.** The colour of the true surface point, from [`Surface::colour_at`] in the collider's own
+//! - **Colour.** The colour of the true surface point, from [`crate::surface::Surface::colour_at`] in the collider's own
 //!   frame (so textures move with objects), plus Gaussian noise per channel.
 //! - **Determinism.** Every ray draws its noise from a counter-based generator keyed by
 //!   `(frame_seed, ray index)`: the same scene, pose and seed give the same cloud bit for bit, whatever
