@@ -14,6 +14,7 @@
 mod error;
 mod load;
 mod model;
+pub mod text_place;
 mod validate;
 
 pub use error::{InvalidModel, ModelError};

@@ -9,6 +9,7 @@ use toml::de::{DeTable, DeValue};
 
 use crate::error::{InvalidModel, ModelError};
 use crate::model::RobotModel;
+use crate::text_place::line_column;
 
 /// Fixed-length arrays of the format: serde takes a `[f64; 2]` from the first two entries of a longer
 /// array and drops the rest, so a third entry is caught here rather than silently ignored.
@@ -112,20 +113,6 @@ fn span_of(doc: &Spanned<DeTable<'_>>, field: &str) -> Range<usize> {
         }
     }
     span
-}
-
-/// 1-based line and column (in characters) of a byte offset.
-fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let mut offset = offset.min(text.len());
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    let before = &text[..offset];
-    let line_start = before.rfind('\n').map_or(0, |nl| nl + 1);
-    (
-        before.matches('\n').count() + 1,
-        before[line_start..].chars().count() + 1,
-    )
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! a TOML file. Every field has a default (a common ROS 2 layout), so a file names only what differs
 //! on the robot; errors name the file, line, column and field.
 
+use nudge_robot_model::text_place::line_column;
 use serde::{Deserialize, Serialize};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
@@ -296,20 +297,6 @@ fn depth_span(doc: &DeTable<'_>, profile: &str) -> Option<usize> {
     let qos = doc.get("qos")?.get_ref().as_table()?;
     let value: &Spanned<DeValue<'_>> = qos.get(profile)?.get_ref().as_table()?.get("depth")?;
     Some(value.span().start)
-}
-
-/// 1-based line and column (in characters) of a byte offset.
-fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let mut offset = offset.min(text.len());
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    let before = &text[..offset];
-    let line_start = before.rfind('\n').map_or(0, |nl| nl + 1);
-    (
-        before.matches('\n').count() + 1,
-        before[line_start..].chars().count() + 1,
-    )
 }
 
 #[cfg(test)]

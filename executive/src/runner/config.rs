@@ -153,7 +153,8 @@ pub struct RunConfig {
     /// Perception's stages (the look-around's views included).
     pub perception: PerceptionConfig,
     /// What the robot is: its body, head, camera, arm, wrist and force limits. The run takes every
-    /// robot fact from here.
+    /// robot fact from here; [`RunConfig::new`] also derives `push` and `validity` from it, so a
+    /// model changed afterwards needs those set again.
     pub model: RobotModel,
     /// Which prisms block the cylinder.
     pub validity: ValidityConfig,

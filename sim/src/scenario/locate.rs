@@ -5,6 +5,7 @@
 
 use std::ops::Range;
 
+use nudge_robot_model::text_place::line_column;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
@@ -63,20 +64,6 @@ fn place(
         field,
         fault,
     }
-}
-
-/// 1-based line and column (in characters) of a byte offset; offsets past the end land after the last
-/// character, offsets inside a character at its start.
-pub(super) fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let mut offset = offset.min(text.len());
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    let before = &text[..offset];
-    let line_start = before.rfind('\n').map_or(0, |nl| nl + 1);
-    let line = before.matches('\n').count() + 1;
-    let column = before[line_start..].chars().count() + 1;
-    (line, column)
 }
 
 /// The text between `prefix` and the next backtick, e.g. the name in "missing field `mass`".
