@@ -8,10 +8,10 @@ use nudge_executive::robot::{
 };
 use nudge_perception::ColourCloud;
 
-use crate::humanoid::walk::Walk;
 use crate::scenario::Scenario;
 use crate::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, SensorScene};
 use crate::world::{World, WorldError};
+use nudge_executive::robot::controller::Walk;
 
 /// The simulated robot: owns the world it lives in.
 pub struct SimRobot {

@@ -7,6 +7,7 @@
 
 pub mod actors;
 pub mod adapter;
+pub mod bridge;
 pub mod cli;
 pub mod generate;
 pub mod humanoid;

@@ -4,7 +4,6 @@
 
 use nudge_robot_model::text_place::line_column;
 use serde::{Deserialize, Serialize};
-use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 /// A topic name as ROS 2 accepts it: `/`-separated tokens of letters, digits and `_`, none starting
@@ -117,6 +116,15 @@ pub struct Topics {
     pub hand: TopicName,
     /// Simulated time (`rosgraph_msgs/Clock`), read when `use_sim_time` is set.
     pub clock: TopicName,
+    /// The joints' state (`sensor_msgs/JointState`): the head's pan and tilt.
+    pub joint_states: TopicName,
+    /// Asks a triggered camera for a frame (`std_msgs/Header`, stamped with the request's time); a
+    /// streaming camera ignores it, and the adapter takes the first frame stamped at or after it.
+    pub camera_trigger: TopicName,
+    /// Asks a lock-stepped simulator to run until a time (`rosgraph_msgs/Clock`), published when
+    /// `use_sim_time` is set; a free-running simulator ignores it and the adapter waits for
+    /// `/clock` all the same.
+    pub step: TopicName,
 }
 
 impl Default for Topics {
@@ -130,6 +138,9 @@ impl Default for Topics {
             head: t("/head_controller/joint_trajectory"),
             hand: t("/servo_node/delta_twist_cmds"),
             clock: t("/clock"),
+            joint_states: t("/joint_states"),
+            camera_trigger: t("/camera/trigger"),
+            step: t("/nudge/step_until"),
         }
     }
 }
@@ -144,6 +155,9 @@ pub struct Frames {
     pub base: FrameId,
     /// The hand, where the pushes are measured.
     pub hand: FrameId,
+    /// The colour range camera's frame, the one its clouds are stamped with (the bridge names its
+    /// camera so; the adapter places a cloud by whatever frame it carries).
+    pub camera: FrameId,
 }
 
 impl Default for Frames {
@@ -153,6 +167,7 @@ impl Default for Frames {
             map: f("map"),
             base: f("base_link"),
             hand: f("hand"),
+            camera: f("camera"),
         }
     }
 }
@@ -201,12 +216,39 @@ impl Default for QosProfiles {
     }
 }
 
+/// How long the adapter waits before a silent robot is a fault.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Timeouts {
+    /// Wall-clock seconds a topic the adapter waits on may stay silent (the clock, a camera frame,
+    /// the wrist during a guarded move) before the call fails with a timeout. Two seconds is many
+    /// periods of any sensor and of a simulator's step, and short enough that a dead driver ends the
+    /// run at once.
+    pub quiet: f64,
+    /// Robot-clock seconds by which a transform may be older than the data it places (a cloud, a
+    /// hand position) before it counts as stale: two of the executive's 50 ms ticks.
+    pub stale: f64,
+}
+
+impl Default for Timeouts {
+    fn default() -> Self {
+        Self {
+            quiet: 2.0,
+            stale: 0.1,
+        }
+    }
+}
+
 /// The robot's ROS 2 graph as the adapter sees it.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Ros2Config {
     /// Take the time from the clock topic (a simulator's), not from the wall clock.
     pub use_sim_time: bool,
+    /// The DDS domain (`ROS_DOMAIN_ID`), 0 to 232.
+    pub domain_id: u16,
+    /// When silence is a fault.
+    pub timeouts: Timeouts,
     /// Topic names.
     pub topics: Topics,
     /// Frame ids.
@@ -262,18 +304,56 @@ impl Ros2Config {
             ("command", config.qos.command),
         ] {
             if !(1..=MAX_DEPTH).contains(&qos.depth) {
-                let at = DeTable::parse(text)
-                    .ok()
-                    .and_then(|doc| depth_span(doc.get_ref(), name))
-                    .unwrap_or(0);
+                let at = span_of(text, &["qos", name, "depth"]);
                 return Err(place(
                     at,
                     format!("depth must lie in 1 to {MAX_DEPTH}, got {}", qos.depth),
                 ));
             }
         }
+        if config.domain_id > MAX_DOMAIN {
+            return Err(place(
+                span_of(text, &["domain_id"]),
+                format!("must lie in 0 to {MAX_DOMAIN}, got {}", config.domain_id),
+            ));
+        }
+        for (name, value) in [
+            ("quiet", config.timeouts.quiet),
+            ("stale", config.timeouts.stale),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(place(
+                    span_of(text, &["timeouts", name]),
+                    format!("must be a positive number of seconds, got {value}"),
+                ));
+            }
+        }
         Ok(config)
     }
+}
+
+/// The largest DDS domain id ROS 2 maps to ports.
+const MAX_DOMAIN: u16 = 232;
+
+/// Where the value at `path` starts in `text` (0 when it is not there).
+fn span_of(text: &str, path: &[&str]) -> usize {
+    let Ok(doc) = DeTable::parse(text) else {
+        return 0;
+    };
+    let mut table = doc.get_ref();
+    for (i, key) in path.iter().enumerate() {
+        let Some(value) = table.get(*key) else {
+            return 0;
+        };
+        if i + 1 == path.len() {
+            return value.span().start;
+        }
+        match value.get_ref().as_table() {
+            Some(t) => table = t,
+            None => return 0,
+        }
+    }
+    0
 }
 
 /// The dotted path of the deepest key whose value holds byte `offset`.
@@ -291,12 +371,6 @@ fn key_at(table: &DeTable<'_>, offset: usize, prefix: &str) -> Option<String> {
             _ => inside.then_some(path),
         }
     })
-}
-
-fn depth_span(doc: &DeTable<'_>, profile: &str) -> Option<usize> {
-    let qos = doc.get("qos")?.get_ref().as_table()?;
-    let value: &Spanned<DeValue<'_>> = qos.get(profile)?.get_ref().as_table()?.get("depth")?;
-    Some(value.span().start)
 }
 
 #[cfg(test)]
@@ -345,6 +419,14 @@ mod tests {
                 .starts_with("robot.ros2.toml:2:15: qos.sensor.reliability: unknown variant"),
             "{}",
             error("[qos.sensor]\nreliability = \"sometimes\"\ndepth = 5\n")
+        );
+        assert_eq!(
+            error("domain_id = 300\n"),
+            "robot.ros2.toml:1:13: domain_id: must lie in 0 to 232, got 300"
+        );
+        assert_eq!(
+            error("[timeouts]\nquiet = -1.0\n"),
+            "robot.ros2.toml:2:9: timeouts.quiet: must be a positive number of seconds, got -1"
         );
         assert_eq!(
             error("[qos.command]\nreliability = \"reliable\"\ndepth = 0\n"),

@@ -10,7 +10,9 @@
 
 #![warn(missing_docs)]
 
+pub mod adapter;
 pub mod cdr;
 pub mod config;
 pub mod convert;
 pub mod msg;
+pub mod node;

@@ -139,6 +139,17 @@ fn messages() -> Vec<(&'static str, Vec<u8>, Value)> {
             "camera",
         )),
         entry(&PointCloud2::default()),
+        entry(&Clock {
+            clock: time_from_seconds(61.25).expect("a time"),
+        }),
+        entry(&JointState {
+            header: header("", 4.5),
+            name: vec!["head_pan".into(), "head_tilt".into()],
+            position: vec![0.25, -0.125],
+            velocity: vec![0.0, 1.0],
+            effort: vec![],
+        }),
+        entry(&JointState::default()),
     ]
 }
 

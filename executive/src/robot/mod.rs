@@ -13,6 +13,7 @@
 mod arm;
 mod base;
 mod clock;
+pub mod controller;
 mod error;
 mod fake;
 pub mod faults;

@@ -14,6 +14,7 @@ mod report;
 mod results;
 mod run;
 mod schedule;
+mod sim_bridge;
 mod source;
 mod timeline;
 
@@ -63,6 +64,35 @@ enum Command {
     /// Write generated scenarios of one or more families, each with an [expect] block right by
     /// construction (checked against the true world).
     Generate(GenerateArgs),
+    /// Serve a scenario's simulated robot over ROS 2 (DDS), lock-stepped to its client: the topics,
+    /// frames and QoS of `--ros2` (defaults otherwise), as `nudge run --robot ros2` expects them.
+    /// Ends when the client has been silent for `--idle` seconds, or on Ctrl-C.
+    SimBridge(SimBridgeArgs),
+}
+
+/// Which robot a run drives.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+enum RobotKind {
+    /// The simulation, in this process.
+    #[default]
+    Sim,
+    /// A robot over ROS 2 (DDS): a real one, or `nudge sim-bridge` in another process.
+    Ros2,
+}
+
+#[derive(clap::Args, Debug)]
+struct SimBridgeArgs {
+    /// Scenario file (TOML); the paper's room when omitted.
+    scenario: Option<PathBuf>,
+    /// Seed of the world; the scenario's own seed when omitted.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// The ROS 2 graph (topics, frames, QoS, domain) as TOML; every field defaults.
+    #[arg(long, value_name = "FILE.toml")]
+    ros2: Option<PathBuf>,
+    /// Seconds without a step request, once a client has asked, after which the bridge ends.
+    #[arg(long, default_value_t = 5.0)]
+    idle: f64,
 }
 
 /// Candidate policy as typed on the command line.
@@ -121,6 +151,13 @@ struct RunArgs {
     /// Print only the summary, not the timeline.
     #[arg(long)]
     quiet: bool,
+    /// The robot to drive: the simulation in this process, or a robot over ROS 2.
+    #[arg(long, value_enum, default_value = "sim")]
+    robot: RobotKind,
+    /// With `--robot ros2`: the robot's ROS 2 graph (topics, frames, QoS, domain, use_sim_time) as
+    /// TOML; every field defaults.
+    #[arg(long, value_name = "FILE.toml")]
+    ros2: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -267,6 +304,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
         Some(Command::Inspect(args)) => inspect::inspect(args),
         Some(Command::Replay(args)) => replay::replay(args),
         Some(Command::Generate(args)) => generate::generate(args),
+        Some(Command::SimBridge(args)) => sim_bridge::sim_bridge(args),
         None => run::run(RunArgs::default()),
     }
 }

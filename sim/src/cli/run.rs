@@ -13,7 +13,7 @@ use nudge_executive::{CandidatePolicy, RunReport, State};
 use super::map::{MapCollector, draw};
 use super::source::Source;
 use super::timeline::{TimelinePrinter, verdict_word};
-use super::{EXIT_ABORTED, EXIT_NO_PATH, RunArgs};
+use super::{EXIT_ABORTED, EXIT_NO_PATH, RobotKind, RunArgs};
 
 pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let Source {
@@ -26,6 +26,9 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     };
     let seed = args.seed.unwrap_or(scenario.seed);
     let policy: CandidatePolicy = args.policy.map(Into::into).unwrap_or_default();
+    if args.robot == RobotKind::Ros2 {
+        return run_ros2(&args, &scenario, &file_name, seed, policy);
+    }
     let mut recorder = match &args.record {
         Some(path) => {
             let info = RunInfo {
@@ -115,6 +118,54 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             ghosts.join(", ")
         );
     }
+    Ok(match report.outcome {
+        State::Goal => ExitCode::SUCCESS,
+        State::NoPathToGoal(_) => ExitCode::from(EXIT_NO_PATH),
+        _ => ExitCode::from(EXIT_ABORTED),
+    })
+}
+
+/// A run over ROS 2: the executive drives whatever robot answers on the configured topics. Ground
+/// truth (ghosts, people) is the robot's to know, so the summary has none; a recording holds the
+/// run's timeline without the replay tape.
+fn run_ros2(
+    args: &RunArgs,
+    scenario: &crate::scenario::Scenario,
+    file_name: &str,
+    seed: u64,
+    policy: CandidatePolicy,
+) -> anyhow::Result<ExitCode> {
+    if args.record.is_some() || args.map.is_some() {
+        anyhow::bail!("--record and --map need the simulated robot's truth: not with --robot ros2");
+    }
+    let config = super::sim_bridge::ros2_config(args.ros2.as_deref())?;
+    println!(
+        "nudge: {} ({file_name}), seed {seed}, policy {policy:?}, robot over ROS 2 (domain {}, {} time)",
+        scenario.name,
+        config.domain_id,
+        if config.use_sim_time {
+            "simulated"
+        } else {
+            "wall"
+        }
+    );
+    let robot =
+        nudge_ros2::adapter::Ros2Robot::connect(config, scenario.robot.model(), "nudge_executive")
+            .context("cannot reach the robot over ROS 2")?;
+    let printer = TimelinePrinter {
+        enabled: !args.quiet,
+    };
+    let mut runner = nudge_executive::Runner::new(
+        robot,
+        printer,
+        crate::run::run_config(scenario, seed, policy),
+    );
+    let cancel = runner.cancel_flag();
+    let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed));
+    let started = Instant::now();
+    let report = runner.run();
+    let wall = started.elapsed().as_secs_f64();
+    summarise(&report, wall);
     Ok(match report.outcome {
         State::Goal => ExitCode::SUCCESS,
         State::NoPathToGoal(_) => ExitCode::from(EXIT_NO_PATH),

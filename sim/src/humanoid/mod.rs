@@ -2,7 +2,6 @@
 //! range sensor, and one arm whose kinematic wrist drags a small dynamic hand through a compliant
 //! wrist joint (the F/T sensor reads that joint).
 
-pub mod arm;
 pub mod head;
 pub mod walk;
 
@@ -15,9 +14,9 @@ use crate::scenario::{RobotSpec, Texture};
 use crate::surface::{Owner, Surface};
 use crate::world::build::groups;
 use crate::world::convert::{iso_from_pose, pose_from_iso};
-use arm::Arm;
 use head::Head;
-use walk::{Rates, Walk, WalkParams};
+use nudge_executive::robot::controller::{HandMotion as Arm, Rates, Walk};
+use walk::WalkParams;
 
 /// Distance the walking body keeps from obstacles (m).
 pub const SAFETY_MARGIN: f64 = 0.015;
@@ -250,7 +249,28 @@ impl Humanoid {
         if !yaw.is_finite() {
             return Err(Refused("yaw must be finite".into()));
         }
-        self.walk = Walk::Turn(walk::wrap(yaw));
+        self.walk = Walk::Turn(nudge_executive::robot::controller::wrap(yaw));
+        Ok(())
+    }
+
+    /// Moves the base at a commanded velocity (`linear` in the base frame, m/s; `angular`, rad/s)
+    /// until the next command, still never entering anything; zero stops it.
+    pub fn command_velocity(
+        &mut self,
+        linear: nalgebra::Vector2<f64>,
+        angular: f64,
+    ) -> Result<(), Refused> {
+        if !(linear.x.is_finite() && linear.y.is_finite() && angular.is_finite()) {
+            return Err(Refused("velocities must be finite".into()));
+        }
+        if linear == nalgebra::Vector2::zeros() && angular == 0.0 {
+            if matches!(self.walk, Walk::Velocity { .. }) {
+                self.rates = Rates::default();
+                self.walk = Walk::Idle(Some(nudge_executive::robot::WalkOutcome::Stopped));
+            }
+        } else {
+            self.walk = Walk::Velocity { linear, angular };
+        }
         Ok(())
     }
 

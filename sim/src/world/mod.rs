@@ -29,13 +29,13 @@ use rapier3d::parry::query;
 use rapier3d::prelude::*;
 
 use crate::actors::Actor;
-use crate::humanoid::walk::Walk;
 use crate::humanoid::{Humanoid, WRIST_STIFFNESS};
 use crate::scenario::{ObjectSpec, Scenario};
 use crate::sensors::wrist_ft::{WristFt, WristFtConfig, WristFtError, wrench_on_wrist};
 use crate::surface::Surface;
 use convert::iso_from_pose;
 use effort::Effort;
+use nudge_executive::robot::controller::Walk;
 use nudge_robot_model::RobotModel;
 
 /// Physics step while the hand moves or touches (µs): the wrist sensor's 1 kHz.

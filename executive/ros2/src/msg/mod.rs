@@ -4,6 +4,7 @@
 
 mod builtin_interfaces;
 mod geometry_msgs;
+mod rosgraph_msgs;
 mod sensor_msgs;
 mod std_msgs;
 mod tf2_msgs;
@@ -13,7 +14,8 @@ pub use builtin_interfaces::{Duration, Time};
 pub use geometry_msgs::{
     Quaternion, Transform, TransformStamped, Twist, TwistStamped, Vector3, Wrench, WrenchStamped,
 };
-pub use sensor_msgs::{PointCloud2, PointField};
+pub use rosgraph_msgs::Clock;
+pub use sensor_msgs::{JointState, PointCloud2, PointField};
 pub use std_msgs::Header;
 pub use tf2_msgs::TFMessage;
 pub use trajectory_msgs::{JointTrajectory, JointTrajectoryPoint};

@@ -62,3 +62,20 @@ pub struct PointCloud2 {
     pub is_dense: bool,
 }
 ros_message!(PointCloud2, "sensor_msgs", "PointCloud2");
+
+/// `sensor_msgs/msg/JointState`: named joints' positions (rad), velocities (rad/s) and efforts; any
+/// of the three arrays may be empty.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct JointState {
+    /// When the joints were read.
+    pub header: Header,
+    /// Joint names.
+    pub name: Vec<String>,
+    /// Positions, in `name`'s order.
+    pub position: Vec<f64>,
+    /// Velocities, in `name`'s order.
+    pub velocity: Vec<f64>,
+    /// Efforts, in `name`'s order.
+    pub effort: Vec<f64>,
+}
+ros_message!(JointState, "sensor_msgs", "JointState");

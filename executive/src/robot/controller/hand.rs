@@ -1,8 +1,11 @@
-//! The arm: the commanded wrist position in `base_link` and the hand motion that moves it.
+//! The hand's motion: the commanded wrist position in `base_link` and the profile that moves it —
+//! to a guarded line's start, along it, back to rest, or at a commanded velocity.
 
 use nalgebra::{Point3, Vector3};
-use nudge_executive::robot::{ActionStatus, GuardedMove, HandOutcome, Stamped, Wrench};
 use nudge_robot_model::ArmModel;
+
+use super::ramp;
+use crate::robot::{ActionStatus, GuardedMove, HandOutcome, Stamped, Wrench};
 /// Speed of unguarded moves: to the start of a guarded line, and retracting (m/s).
 pub const FREE_SPEED: f64 = 0.2;
 /// Acceleration of the hand along its line (m/s²): a speed step would shake the hand on its
@@ -22,11 +25,14 @@ enum Motion {
     Guarded(GuardedMove),
     /// Going back to the rest pose.
     Retract,
+    /// Moving at a commanded velocity in `base_link` (m/s), a Cartesian servo's command, until the
+    /// workspace's edge: the ROS 2 bridge's hand.
+    Velocity(Vector3<f64>),
 }
 
-/// The arm's command state.
+/// The hand's command state.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Arm {
+pub struct HandMotion {
     /// Commanded wrist position in `base_link` (m).
     pub command: Point3<f64>,
     /// Reachable hand positions in `base_link` (m): [min, max] per axis.
@@ -38,7 +44,7 @@ pub struct Arm {
     outcome: Option<HandOutcome>,
 }
 
-impl Arm {
+impl HandMotion {
     /// `model`'s arm, its hand at rest.
     pub fn new(model: &ArmModel) -> Self {
         let [x, y, z] = model.rest;
@@ -99,6 +105,21 @@ impl Arm {
         self.outcome = None;
     }
 
+    /// Moves the hand at `velocity` (m/s, `base_link`) until another command; zero holds it. No
+    /// guard: whoever commands the velocity watches the force.
+    pub fn set_velocity(&mut self, velocity: Vector3<f64>) {
+        if velocity == Vector3::zeros() {
+            if self.motion != Motion::Hold {
+                self.motion = Motion::Hold;
+                self.speed = 0.0;
+                self.outcome = Some(HandOutcome::Stopped);
+            }
+        } else {
+            self.motion = Motion::Velocity(velocity);
+            self.outcome = None;
+        }
+    }
+
     /// Stops the hand where it is.
     pub fn stop(&mut self) {
         if self.motion != Motion::Hold {
@@ -126,7 +147,7 @@ impl Arm {
     /// Whether the hand is on a guarded line (not on its way to one): the force rises fastest then,
     /// so the world steps finely.
     pub fn on_guarded_line(&self) -> bool {
-        matches!(self.motion, Motion::Guarded(_))
+        matches!(self.motion, Motion::Guarded(_) | Motion::Velocity(_))
     }
 
     /// The guarded line under way, once the hand is on it: its force limit and its speed (m/s).
@@ -175,6 +196,15 @@ impl Arm {
                     self.outcome = Some(HandOutcome::Reached);
                 }
             }
+            Motion::Velocity(v) => {
+                let next = self.command + v * dt;
+                if self.in_workspace(&next) {
+                    self.command = next;
+                } else {
+                    self.motion = Motion::Hold;
+                    self.outcome = Some(HandOutcome::Stopped);
+                }
+            }
         }
     }
 
@@ -183,7 +213,7 @@ impl Arm {
     fn move_towards(&mut self, target: Point3<f64>, max_speed: f64, accel: f64, dt: f64) -> bool {
         let d: Vector3<f64> = target - self.command;
         let n = d.norm();
-        self.speed = crate::humanoid::walk::ramp(self.speed, max_speed, accel, n, dt);
+        self.speed = ramp(self.speed, max_speed, accel, n, dt);
         let step = self.speed * dt;
         if n <= step {
             self.command = target;
@@ -204,8 +234,8 @@ mod tests {
         paper_arm().rest()
     }
 
-    fn paper_arm() -> Arm {
-        Arm::new(&ArmModel::default())
+    fn paper_arm() -> HandMotion {
+        HandMotion::new(&ArmModel::default())
     }
 
     fn line(acceleration: Option<f64>) -> GuardedMove {
@@ -219,7 +249,7 @@ mod tests {
     }
 
     /// Runs the line for `seconds` in 1 ms steps; the commanded travel along it (m).
-    fn travel_after(arm: &mut Arm, seconds: f64) -> f64 {
+    fn travel_after(arm: &mut HandMotion, seconds: f64) -> f64 {
         for _ in 0..(seconds * 1000.0).round() as usize {
             arm.step(0.001);
         }

@@ -1,0 +1,19 @@
+//! The motion controllers that run below the adapter boundary: what turns a started walk or hand
+//! motion into motion, step by step. The simulation runs them on its bodies; the ROS 2 adapter runs
+//! the same ones to turn the executive's actions into the velocity commands a real robot's
+//! controllers take (`/cmd_vel`, a Cartesian servo), so both move alike.
+
+mod hand;
+mod walk;
+
+pub use hand::{FREE_SPEED, HAND_ACCEL, HandMotion, MAX_GUARDED_SPEED};
+pub use walk::{ANGULAR_ACCEL, LINEAR_ACCEL, Rates, Walk, WalkLimits, step_walk, wrap};
+
+/// The next speed of a motion that may accelerate at `accel` up to `max` and must stop within `remaining`.
+pub fn ramp(current: f64, max: f64, accel: f64, remaining: f64, dt: f64) -> f64 {
+    let v = (current + accel * dt)
+        .min(max)
+        .min((2.0 * accel * remaining).sqrt());
+    // Never stall just short of the end.
+    v.max((accel * dt).min(max))
+}

@@ -1,0 +1,99 @@
+//! The executive over DDS: `nudge run --robot ros2` in one process drives `nudge sim-bridge` in
+//! another, inside a private network namespace that has only loopback (`unshare -rn`), so discovery
+//! and data never leave the machine. Needs `unshare` and `ip` (util-linux, iproute2) and user
+//! namespaces; without them the tests fail, they never skip.
+
+use std::process::{Command, Output};
+
+const NUDGE: &str = env!("CARGO_BIN_EXE_nudge");
+
+/// Runs `script` under `sh` in a new user and network namespace with loopback up; `$NUDGE` is the
+/// binary.
+fn in_private_network(script: &str) -> Output {
+    let out = Command::new("unshare")
+        .args(["-rn", "sh", "-c"])
+        .arg(format!("ip link set lo up && {script}"))
+        .env("NUDGE", NUDGE)
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run unshare (util-linux): {e}. The DDS tests need a private network namespace.")
+        });
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !text.contains("unshare: ") && !text.contains("ip: not found"),
+        "no private network namespace here (needs user namespaces, unshare and ip): {text}"
+    );
+    out
+}
+
+fn text(out: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+#[test]
+fn the_paper_room_over_dds_reaches_the_goal_with_the_in_process_verdicts() {
+    // Invariant: the executive over ROS 2 against the bridged simulation reaches the goal of the paper's room with the same verdicts as the in-process run (obj-2 static, obj-4 movable — the room's truth).
+    let dir = tempfile::tempdir().expect("temp dir");
+    let config = dir.path().join("robot.ros2.toml");
+    std::fs::write(&config, "use_sim_time = true\n").expect("write config");
+    let out = in_private_network(&format!(
+        "\"$NUDGE\" sim-bridge --idle 3 > {bridge} 2>&1 & \
+         timeout 600 \"$NUDGE\" run --quiet --robot ros2 --ros2 {config}; code=$?; wait; cat {bridge}; exit $code",
+        bridge = dir.path().join("bridge.log").display(),
+        config = config.display()
+    ));
+    let all = text(&out);
+    assert!(out.status.success(), "the run over DDS failed:\n{all}");
+    assert!(all.contains("outcome      reached the goal"), "{all}");
+    assert!(all.contains("verdict      obj-2 is static"), "{all}");
+    assert!(all.contains("verdict      obj-4 is movable"), "{all}");
+    assert!(all.contains("0 command(s) refused"), "{all}");
+    let in_process = Command::new(NUDGE)
+        .args(["run", "--quiet"])
+        .output()
+        .expect("nudge run");
+    let local = text(&in_process);
+    for verdict in local.lines().filter(|l| l.starts_with("verdict")) {
+        assert!(
+            all.contains(verdict),
+            "in process `{verdict}`, over DDS:\n{all}"
+        );
+    }
+}
+
+#[test]
+fn a_robot_that_goes_quiet_ends_the_run_aborted_not_hung() {
+    // Invariant: when the robot's topics go silent mid-run (the bridge killed), the run ends Aborted with a timeout named, within seconds, never a hang.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let config = dir.path().join("robot.ros2.toml");
+    std::fs::write(&config, "use_sim_time = true\n[timeouts]\nquiet = 1.0\n")
+        .expect("write config");
+    let out = in_private_network(&format!(
+        "\"$NUDGE\" sim-bridge --idle 30 > /dev/null 2>&1 & bridge=$!; \
+         (sleep 6; kill -9 $bridge) & \
+         timeout 120 \"$NUDGE\" run --quiet --robot ros2 --ros2 {config}; code=$?; wait; exit $code",
+        config = config.display()
+    ));
+    let all = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(4),
+        "exit 4 (aborted) expected:\n{all}"
+    );
+    assert!(all.contains("outcome      aborted:"), "{all}");
+    assert!(all.contains("timed out"), "{all}");
+}
+
+#[test]
+fn no_robot_to_reach_is_an_error_not_a_hang() {
+    // Invariant: `nudge run --robot ros2` with nobody on the graph stops with an error naming the ROS 2 side, after the connect timeout, never a panic.
+    let out = in_private_network("timeout 120 \"$NUDGE\" run --quiet --robot ros2");
+    let all = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{all}");
+    assert!(all.contains("cannot reach the robot over ROS 2"), "{all}");
+    assert!(!all.contains("panicked"), "{all}");
+}
