@@ -150,3 +150,99 @@ impl Inbox {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Translation3, UnitQuaternion};
+
+    use super::*;
+    use crate::convert::{time_from_seconds, transform, wrench};
+    use crate::msg::{Header, TransformStamped};
+
+    fn header(frame: &str, t: f64) -> Header {
+        Header {
+            stamp: time_from_seconds(t).expect("a time"),
+            frame_id: frame.into(),
+        }
+    }
+
+    fn clock(t: f64) -> Clock {
+        Clock {
+            clock: time_from_seconds(t).expect("a time"),
+        }
+    }
+
+    #[test]
+    fn a_clock_that_runs_backwards_is_a_fault_and_is_not_taken() {
+        // Invariant: /clock going back is kept as a clock fault naming both times, and the inbox's time stays where it was.
+        let mut inbox = Inbox::default();
+        inbox.on_clock(&clock(10.0));
+        inbox.on_clock(&clock(9.5));
+        assert_eq!(inbox.clock, Some(10.0));
+        let fault = inbox.fault.expect("a fault").to_string();
+        assert!(
+            fault.contains("clock") && fault.contains("10 s to 9.5 s"),
+            "{fault}"
+        );
+    }
+
+    #[test]
+    fn a_wrench_with_a_nan_is_a_fault_and_never_a_reading() {
+        // Invariant: a WrenchStamped with a NaN is reported as a wrist fault and reaches neither the latest reading nor the drained trace.
+        let mut inbox = Inbox::default();
+        let mut w = nudge_executive::robot::Wrench::default();
+        w.force.x = f64::NAN;
+        inbox.on_wrench(&WrenchStamped {
+            header: header("hand", 1.0),
+            wrench: wrench(&w),
+        });
+        assert!(inbox.latest_wrench.is_none() && inbox.wrenches.is_empty());
+        assert!(
+            inbox
+                .fault
+                .expect("a fault")
+                .to_string()
+                .contains("wrist fault")
+        );
+    }
+
+    #[test]
+    fn transforms_chain_from_the_map_and_report_their_oldest_stamp() {
+        // Invariant: map → base → camera composes the two poses, the stamp returned is the older edge's, a missing edge is Unavailable and a NaN transform a fault.
+        let mut inbox = Inbox::default();
+        let base = Isometry3::from_parts(
+            Translation3::new(1.0, 2.0, 0.0),
+            UnitQuaternion::from_euler_angles(0.0, 0.0, 0.5),
+        );
+        let camera = Isometry3::translation(0.0, 0.0, 1.4);
+        let edge = |parent: &str, child: &str, t: f64, p: &Isometry3<f64>| TransformStamped {
+            header: header(parent, t),
+            child_frame_id: child.into(),
+            transform: transform(p),
+        };
+        inbox.on_tf(&TFMessage {
+            transforms: vec![
+                edge("map", "base_link", 3.0, &base),
+                edge("base_link", "camera", 2.5, &camera),
+            ],
+        });
+        let (pose, stamp) = inbox.lookup("map", "camera").expect("a chain");
+        assert!((pose.translation.vector - (base * camera).translation.vector).norm() < 1e-12);
+        assert_eq!(stamp, 2.5);
+        assert!(matches!(
+            inbox.lookup("map", "hand"),
+            Err(RobotError::Unavailable { .. })
+        ));
+        let mut bad = transform(&base);
+        bad.translation.x = f64::NAN;
+        inbox.on_tf(&TFMessage {
+            transforms: vec![TransformStamped {
+                header: header("map", 4.0),
+                child_frame_id: "base_link".into(),
+                transform: bad,
+            }],
+        });
+        assert!(inbox.fault.is_some());
+        assert_eq!(inbox.lookup("map", "base_link").expect("kept").1, 3.0);
+    }
+}

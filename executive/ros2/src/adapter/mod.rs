@@ -254,7 +254,25 @@ impl Ros2Robot {
                     && (!hand || r.inbox.latest_wrench.is_some_and(|w| w.stamp >= t))
             })
         } else {
-            self.wait_for("clock", None, |_| Self::wall_now() >= end)
+            self.wait_for("clock", None, |_| Self::wall_now() >= end)?;
+            // On the wall clock nothing waits for the robot's streams: check they still come.
+            let quiet = self.config.timeouts.quiet;
+            let silent = |stamp: f64| end - stamp > quiet;
+            if silent(self.base_stamp()) {
+                return Err(RobotError::Timeout {
+                    capability: "tf",
+                    seconds: quiet,
+                });
+            }
+            if self.hand.guard().is_some()
+                && self.inbox.latest_wrench.is_none_or(|w| silent(w.stamp))
+            {
+                return Err(RobotError::Timeout {
+                    capability: "wrist",
+                    seconds: quiet,
+                });
+            }
+            Ok(())
         }
     }
 
