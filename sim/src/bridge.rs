@@ -35,6 +35,68 @@ pub enum BridgeError {
     Sim(#[from] RobotError),
 }
 
+/// A fault the bridge can put on the wire at a robot time, to test a client's handling of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BridgeFault {
+    /// One wrist reading with a NaN force.
+    NanWrench,
+    /// One `/clock` a second behind the time reached.
+    ClockBack,
+    /// From then on the camera's transform keeps the stamp it had: every later frame's placement
+    /// is stale.
+    StaleCameraTransform,
+    /// From then on nothing is published and no step is taken: a robot that went silent.
+    Quiet,
+}
+
+impl std::str::FromStr for BridgeFault {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "nan-wrench" => Ok(Self::NanWrench),
+            "clock-back" => Ok(Self::ClockBack),
+            "stale-camera-tf" => Ok(Self::StaleCameraTransform),
+            "quiet" => Ok(Self::Quiet),
+            other => Err(format!(
+                "`{other}` is not a bridge fault (nan-wrench, clock-back, stale-camera-tf, quiet)"
+            )),
+        }
+    }
+}
+
+/// A fault and the robot time (s) it starts at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScheduledFault {
+    /// What goes wrong.
+    pub fault: BridgeFault,
+    /// When (robot time, s).
+    pub at: f64,
+}
+
+impl std::str::FromStr for ScheduledFault {
+    type Err = String;
+
+    /// `KIND@SECONDS`, e.g. `nan-wrench@38`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let (kind, at) = s
+            .split_once('@')
+            .ok_or_else(|| format!("`{s}` is not KIND@SECONDS"))?;
+        let at: f64 = at
+            .parse()
+            .map_err(|_| format!("`{at}` in `{s}` is not a number of seconds"))?;
+        if !(at.is_finite() && at >= 0.0) {
+            return Err(format!(
+                "`{s}`: the time must be a non-negative number of seconds"
+            ));
+        }
+        Ok(Self {
+            fault: kind.parse()?,
+            at,
+        })
+    }
+}
+
 /// How a bridge session ended.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BridgeReport {
@@ -46,6 +108,9 @@ pub struct BridgeReport {
     pub frames: u64,
     /// Commands refused (out of limits, not finite), each said on stderr.
     pub refused: u64,
+    /// How far the hand's command stood from its rest pose at the end (m): a client that ends a
+    /// run safely leaves it at rest.
+    pub hand_from_rest: f64,
 }
 
 struct Endpoints {
@@ -69,6 +134,10 @@ pub struct SimBridge {
     io: Endpoints,
     frame_wanted: bool,
     report: BridgeReport,
+    faults: Vec<ScheduledFault>,
+    /// The camera transform's stamp once it froze.
+    frozen_camera_stamp: Option<Time>,
+    silent: bool,
 }
 
 impl SimBridge {
@@ -101,8 +170,26 @@ impl SimBridge {
                 steps: 0,
                 frames: 0,
                 refused: 0,
+                hand_from_rest: 0.0,
             },
+            faults: Vec::new(),
+            frozen_camera_stamp: None,
+            silent: false,
         })
+    }
+
+    /// Puts `faults` on the wire at their times.
+    pub fn with_faults(mut self, faults: Vec<ScheduledFault>) -> Self {
+        self.faults = faults;
+        self
+    }
+
+    /// Takes the faults due at the time reached, each once.
+    fn due(&mut self) -> Vec<BridgeFault> {
+        let now = self.robot.world().time();
+        let (due, later): (Vec<_>, Vec<_>) = self.faults.iter().partition(|f| f.at <= now);
+        self.faults = later;
+        due.into_iter().map(|f| f.fault).collect()
     }
 
     /// The simulated robot, for its ground truth.
@@ -128,8 +215,10 @@ impl SimBridge {
             match target {
                 Some(t) => {
                     last_request = Some(Instant::now());
-                    self.take_commands();
-                    self.run_to(t)?;
+                    if !self.silent {
+                        self.take_commands();
+                        self.run_to(t)?;
+                    }
                 }
                 None => {
                     if last_request.is_some_and(|at| at.elapsed() >= idle) {
@@ -140,6 +229,8 @@ impl SimBridge {
             }
         }
         self.report.robot_time = self.robot.world().time();
+        let humanoid = self.robot.world().humanoid();
+        self.report.hand_from_rest = (humanoid.arm().command - humanoid.arm().rest()).norm();
         Ok(self.report.clone())
     }
 
@@ -224,6 +315,31 @@ impl SimBridge {
     fn publish_state(&mut self) -> Result<(), BridgeError> {
         let stamp = self.stamp();
         let frames = self.config.frames.clone();
+        let due = self.due();
+        if due.contains(&BridgeFault::Quiet) {
+            self.silent = true;
+            return Ok(());
+        }
+        if due.contains(&BridgeFault::StaleCameraTransform) {
+            self.frozen_camera_stamp = Some(stamp);
+        }
+        if due.contains(&BridgeFault::NanWrench) {
+            let mut w = nudge_executive::robot::Wrench::default();
+            w.force.x = f64::NAN;
+            self.io.wrench.publish(WrenchStamped {
+                header: Header {
+                    stamp,
+                    frame_id: frames.hand.as_str().into(),
+                },
+                wrench: wrench(&w),
+            })?;
+        }
+        if due.contains(&BridgeFault::ClockBack) {
+            let back = time_from_seconds((self.robot.world().time() - 1.0).max(0.0));
+            self.io.clock.publish(Clock {
+                clock: back.unwrap_or_default(),
+            })?;
+        }
         for sample in self.robot.drain_wrenches()? {
             self.io.wrench.publish(WrenchStamped {
                 header: Header {
@@ -245,21 +361,28 @@ impl SimBridge {
             Translation3::from(humanoid.hand_position(world.physics()).coords),
             UnitQuaternion::identity(),
         );
-        let edge = |parent: &str, child: &str, pose: &Isometry3<f64>| TransformStamped {
-            header: Header {
-                stamp,
-                frame_id: parent.into(),
-            },
-            child_frame_id: child.into(),
-            transform: transform(pose),
-        };
+        let camera_stamp = self.frozen_camera_stamp.unwrap_or(stamp);
+        let edge =
+            |parent: &str, child: &str, pose: &Isometry3<f64>, stamp: Time| TransformStamped {
+                header: Header {
+                    stamp,
+                    frame_id: parent.into(),
+                },
+                child_frame_id: child.into(),
+                transform: transform(pose),
+            };
         let head = humanoid.head();
         let (pan, tilt, moving) = (head.pan, head.tilt, head.is_moving());
         self.io.tf.publish(TFMessage {
             transforms: vec![
-                edge(frames.map.as_str(), frames.base.as_str(), &base3),
-                edge(frames.base.as_str(), frames.camera.as_str(), &camera),
-                edge(frames.base.as_str(), frames.hand.as_str(), &hand),
+                edge(frames.map.as_str(), frames.base.as_str(), &base3, stamp),
+                edge(
+                    frames.base.as_str(),
+                    frames.camera.as_str(),
+                    &camera,
+                    camera_stamp,
+                ),
+                edge(frames.base.as_str(), frames.hand.as_str(), &hand, stamp),
             ],
         })?;
         self.io.joints.publish(JointState {
@@ -284,5 +407,37 @@ impl SimBridge {
         }
         self.io.clock.publish(Clock { clock: stamp })?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fault_specs_parse_or_say_what_is_wrong() {
+        // Invariant: KIND@SECONDS parses for the four kinds; a missing @, an unknown kind, a bad or negative time is refused with the reason.
+        assert_eq!(
+            "nan-wrench@38.5".parse(),
+            Ok(ScheduledFault {
+                fault: BridgeFault::NanWrench,
+                at: 38.5
+            })
+        );
+        for kind in ["clock-back", "stale-camera-tf", "quiet"] {
+            assert!(
+                format!("{kind}@0").parse::<ScheduledFault>().is_ok(),
+                "{kind}"
+            );
+        }
+        for (bad, why) in [
+            ("nan-wrench", "is not KIND@SECONDS"),
+            ("sparks@3", "is not a bridge fault"),
+            ("quiet@soon", "is not a number"),
+            ("quiet@-1", "non-negative"),
+        ] {
+            let err = bad.parse::<ScheduledFault>().expect_err(bad);
+            assert!(err.contains(why), "{bad}: {err}");
+        }
     }
 }

@@ -65,27 +65,56 @@ fn the_paper_room_over_dds_reaches_the_goal_with_the_in_process_verdicts() {
     }
 }
 
-#[test]
-fn a_robot_that_goes_quiet_ends_the_run_aborted_not_hung() {
-    // Invariant: when the robot's topics go silent mid-run (the bridge killed), the run ends Aborted with a timeout named, within seconds, never a hang.
+/// Runs the paper's room over DDS against a bridge that puts `fault` on the wire; the run's and the
+/// bridge's output, and the run's exit code.
+fn run_with_fault(fault: &str, quiet: f64) -> (Option<i32>, String) {
     let dir = tempfile::tempdir().expect("temp dir");
     let config = dir.path().join("robot.ros2.toml");
-    std::fs::write(&config, "use_sim_time = true\n[timeouts]\nquiet = 1.0\n")
-        .expect("write config");
+    std::fs::write(
+        &config,
+        format!("use_sim_time = true\n[timeouts]\nquiet = {quiet:?}\n"),
+    )
+    .expect("write config");
     let out = in_private_network(&format!(
-        "\"$NUDGE\" sim-bridge --idle 30 > /dev/null 2>&1 & bridge=$!; \
-         (sleep 6; kill -9 $bridge) & \
-         timeout 120 \"$NUDGE\" run --quiet --robot ros2 --ros2 {config}; code=$?; wait; exit $code",
+        "\"$NUDGE\" sim-bridge --idle 2 --fault {fault} > {bridge} 2>&1 & \
+         timeout 300 \"$NUDGE\" run --quiet --robot ros2 --ros2 {config}; code=$?; wait; cat {bridge}; exit $code",
+        bridge = dir.path().join("bridge.log").display(),
         config = config.display()
     ));
-    let all = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(4),
-        "exit 4 (aborted) expected:\n{all}"
-    );
+    (out.status.code(), text(&out))
+}
+
+#[test]
+fn faults_at_the_boundary_end_aborted_with_the_reason_and_the_arm_at_rest() {
+    // Invariant: a NaN wrist reading mid-push, a /clock that jumps back mid-push and a stale camera transform each end the run Aborted (exit 4) naming the fault, and the arm is back at rest on the simulated robot.
+    for (fault, reason) in [
+        ("nan-wrench@38", "wrist fault: a reading with a NaN"),
+        ("clock-back@38", "clock fault: /clock jumped back"),
+        (
+            "stale-camera-tf@5",
+            "tf fault: the transform from map to camera is stamped 5 s",
+        ),
+    ] {
+        let (code, all) = run_with_fault(fault, 2.0);
+        assert_eq!(code, Some(4), "{fault}: exit 4 (aborted) expected:\n{all}");
+        assert!(
+            all.contains(&format!("outcome      aborted: robot: {reason}")),
+            "{fault}:\n{all}"
+        );
+        assert!(
+            all.contains("hand 0.0 mm from rest"),
+            "{fault}: the arm was not retracted:\n{all}"
+        );
+    }
+}
+
+#[test]
+fn a_robot_that_goes_quiet_ends_the_run_aborted_not_hung() {
+    // Invariant: when the robot's topics go silent mid-run, the run ends Aborted with a timeout named, after the configured quiet time, never a hang.
+    let (code, all) = run_with_fault("quiet@20", 1.0);
+    assert_eq!(code, Some(4), "exit 4 (aborted) expected:\n{all}");
     assert!(all.contains("outcome      aborted:"), "{all}");
-    assert!(all.contains("timed out"), "{all}");
+    assert!(all.contains("timed out after 1 s"), "{all}");
 }
 
 #[test]

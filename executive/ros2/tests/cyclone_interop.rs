@@ -15,7 +15,10 @@ use nudge_robot_model::RobotModel;
 use nudge_ros2::adapter::Ros2Robot;
 use nudge_ros2::config::Ros2Config;
 
-const PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/python/cyclone_peer.py");
+const PEER: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../tests/python/cyclone_peer.py"
+);
 
 #[test]
 fn a_cyclone_dds_peer_takes_our_cmd_vel_and_we_read_its_wrench() {
@@ -39,7 +42,10 @@ fn a_cyclone_dds_peer_takes_our_cmd_vel_and_we_read_its_wrench() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(out.status.success(), "the exchange failed:\n{all}");
-    assert!(all.contains("1 passed"), "the inner test did not run:\n{all}");
+    assert!(
+        all.contains("1 passed"),
+        "the inner test did not run:\n{all}"
+    );
 }
 
 #[test]
@@ -83,13 +89,19 @@ fn exchange_inside_a_private_network() {
         .iter()
         .filter(|t| t["angular"][2].as_f64().is_some_and(|z| z > 0.0))
         .count();
-    assert!(turning >= 10, "{turning} turning twists of {}: {twists:?}", twists.len());
+    assert!(
+        turning >= 10,
+        "{turning} turning twists of {}: {twists:?}",
+        twists.len()
+    );
     assert!(
         twists.iter().all(|t| t["linear"][0].as_f64() == Some(0.0)),
         "a turn on the spot has no linear part: {twists:?}"
     );
     assert!(
-        twists.last().is_some_and(|t| t["angular"][2].as_f64() == Some(0.0)),
+        twists
+            .last()
+            .is_some_and(|t| t["angular"][2].as_f64() == Some(0.0)),
         "the stop is a zero twist: {twists:?}"
     );
 }

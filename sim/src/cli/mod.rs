@@ -93,6 +93,10 @@ struct SimBridgeArgs {
     /// Seconds without a step request, once a client has asked, after which the bridge ends.
     #[arg(long, default_value_t = 5.0)]
     idle: f64,
+    /// Put a fault on the wire at a robot time, to test a client: KIND@SECONDS, KIND one of
+    /// nan-wrench, clock-back, stale-camera-tf, quiet. Repeatable.
+    #[arg(long, value_name = "KIND@SECONDS")]
+    fault: Vec<crate::bridge::ScheduledFault>,
 }
 
 /// Candidate policy as typed on the command line.

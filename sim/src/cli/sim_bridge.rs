@@ -47,7 +47,7 @@ pub(super) fn sim_bridge(args: SimBridgeArgs) -> anyhow::Result<ExitCode> {
     // The bridge is a simulator: its clients take its time.
     config.use_sim_time = true;
     let robot = SimRobot::new(&scenario, seed)?;
-    let mut bridge = SimBridge::new(robot, config)?;
+    let mut bridge = SimBridge::new(robot, config)?.with_faults(args.fault);
     println!(
         "sim-bridge: {} ({file_name}), seed {seed}: serving over ROS 2, lock-stepped",
         scenario.name
@@ -58,12 +58,13 @@ pub(super) fn sim_bridge(args: SimBridgeArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let report = bridge.serve(&stop, Duration::from_secs_f64(args.idle))?;
     println!(
-        "sim-bridge: ended at {:.1} s robot time after {:.1} s wall: {} steps, {} frames, {} command(s) refused",
+        "sim-bridge: ended at {:.1} s robot time after {:.1} s wall: {} steps, {} frames, {} command(s) refused, hand {:.1} mm from rest",
         report.robot_time,
         started.elapsed().as_secs_f64(),
         report.steps,
         report.frames,
-        report.refused
+        report.refused,
+        report.hand_from_rest * 1e3
     );
     Ok(ExitCode::SUCCESS)
 }
