@@ -38,6 +38,11 @@ pub struct BodyModel {
     pub mass: f64,
     /// Height of obstacles the feet step over (m): 3 cm, a mat or a cable.
     pub step_over: f64,
+    /// Linear acceleration of the base (m/s²): the walking speed is reached in 0.3 s; the wrist and
+    /// hand ride on the base, and a speed step would shake the hand on its compliant wrist.
+    pub linear_accel: f64,
+    /// Angular acceleration of the base (rad/s²): the turning rate is reached in 0.5 s.
+    pub angular_accel: f64,
 }
 
 impl Default for BodyModel {
@@ -49,6 +54,8 @@ impl Default for BodyModel {
             turn_rate: 0.5,
             mass: 58.0,
             step_over: 0.03,
+            linear_accel: 0.5,
+            angular_accel: 1.0,
         }
     }
 }
@@ -138,6 +145,13 @@ pub struct ArmModel {
     pub hand_half: [f64; 3],
     /// Mass of the hand (kg).
     pub hand_mass: f64,
+    /// Speed of the hand's unguarded moves, to a guarded line's start and back to rest (m/s).
+    pub free_speed: f64,
+    /// Acceleration of the hand along its line (m/s²): a speed step would shake the hand on its
+    /// compliant wrist (0.5 m/s² on the 0.5 kg hand is 0.25 N).
+    pub accel: f64,
+    /// Fastest guarded move the arm accepts (m/s).
+    pub max_guarded_speed: f64,
 }
 
 impl Default for ArmModel {
@@ -149,6 +163,9 @@ impl Default for ArmModel {
             rest: [0.22, -0.18, 0.8],
             hand_half: [0.02, 0.05, 0.05],
             hand_mass: 0.5,
+            free_speed: 0.2,
+            accel: 0.5,
+            max_guarded_speed: 0.5,
         }
     }
 }

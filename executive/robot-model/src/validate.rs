@@ -57,6 +57,8 @@ impl RobotModel {
         positive("body.walk_speed", b.walk_speed)?;
         positive("body.turn_rate", b.turn_rate)?;
         positive("body.mass", b.mass)?;
+        positive("body.linear_accel", b.linear_accel)?;
+        positive("body.angular_accel", b.angular_accel)?;
         check(
             "body.step_over",
             b.step_over.is_finite() && b.step_over >= 0.0,
@@ -128,6 +130,9 @@ impl RobotModel {
             positive(&format!("arm.hand_half[{i}]"), *v)?;
         }
         positive("arm.hand_mass", a.hand_mass)?;
+        positive("arm.free_speed", a.free_speed)?;
+        positive("arm.accel", a.accel)?;
+        positive("arm.max_guarded_speed", a.max_guarded_speed)?;
         check(
             "wrist.rate_hz",
             self.wrist.rate_hz.is_finite() && (1.0..=1.0e6).contains(&self.wrist.rate_hz),

@@ -168,8 +168,7 @@ impl Humanoid {
             walk: Walk::Idle(None),
             rates: Rates::default(),
             params: WalkParams {
-                speed: body_model.walk_speed,
-                turn_rate: body_model.turn_rate,
+                limits: nudge_executive::robot::controller::WalkLimits::of(body_model),
                 radius: body_model.radius,
                 height: body_model.height,
                 step_over,

@@ -11,10 +11,8 @@ use crate::world::build::groups;
 /// Limits and body size the walk needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WalkParams {
-    /// Walking speed (m/s).
-    pub speed: f64,
-    /// Turning rate (rad/s).
-    pub turn_rate: f64,
+    /// Speeds and accelerations.
+    pub limits: WalkLimits,
     /// Bounding cylinder radius (m).
     pub radius: f64,
     /// Bounding cylinder height (m).
@@ -35,11 +33,7 @@ pub fn step(
     dt: f64,
     world: &PhysicsWorld,
 ) -> Isometry2<f64> {
-    let limits = WalkLimits {
-        speed: p.speed,
-        turn_rate: p.turn_rate,
-    };
-    step_walk(walk, rates, base, &limits, dt, |pos, wanted| {
+    step_walk(walk, rates, base, &p.limits, dt, |pos, wanted| {
         cast(pos, wanted, p, world)
     })
 }

@@ -58,10 +58,7 @@ impl Ros2Robot {
                 return self.send_base(Vector2::zeros(), 0.0);
             }
         }
-        let limits = WalkLimits {
-            speed: self.model.body.walk_speed,
-            turn_rate: self.model.body.turn_rate,
-        };
+        let limits = WalkLimits::of(&self.model.body);
         let next = step_walk(
             &mut self.walk,
             &mut self.rates,

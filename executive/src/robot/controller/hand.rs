@@ -6,13 +6,6 @@ use nudge_robot_model::ArmModel;
 
 use super::ramp;
 use crate::robot::{ActionStatus, GuardedMove, HandOutcome, Stamped, Wrench};
-/// Speed of unguarded moves: to the start of a guarded line, and retracting (m/s).
-pub const FREE_SPEED: f64 = 0.2;
-/// Acceleration of the hand along its line (m/s²): a speed step would shake the hand on its
-/// compliant wrist (0.5 m/s² on the 0.5 kg hand is 0.25 N).
-pub const HAND_ACCEL: f64 = 0.5;
-/// Fastest guarded move accepted (m/s).
-pub const MAX_GUARDED_SPEED: f64 = 0.5;
 
 /// What the hand is doing.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,6 +32,12 @@ pub struct HandMotion {
     workspace: [[f64; 2]; 3],
     /// The hand's rest position beside the body (m, `base_link`).
     rest: Point3<f64>,
+    /// Speed of unguarded moves (m/s).
+    free_speed: f64,
+    /// The hand's own acceleration along a line (m/s²).
+    accel: f64,
+    /// Fastest guarded move accepted (m/s).
+    max_guarded_speed: f64,
     speed: f64,
     motion: Motion,
     outcome: Option<HandOutcome>,
@@ -53,6 +52,9 @@ impl HandMotion {
             command: rest,
             workspace: [model.reach_x, model.reach_y, model.reach_z],
             rest,
+            free_speed: model.free_speed,
+            accel: model.accel,
+            max_guarded_speed: model.max_guarded_speed,
             speed: 0.0,
             motion: Motion::Hold,
             outcome: None,
@@ -80,10 +82,10 @@ impl HandMotion {
                 m.from, m.to, self.workspace
             ));
         }
-        if !(m.speed.is_finite() && m.speed > 0.0 && m.speed <= MAX_GUARDED_SPEED) {
+        if !(m.speed.is_finite() && m.speed > 0.0 && m.speed <= self.max_guarded_speed) {
             return Err(format!(
-                "speed {} outside (0, {MAX_GUARDED_SPEED}] m/s",
-                m.speed
+                "speed {} outside (0, {}] m/s",
+                m.speed, self.max_guarded_speed
             ));
         }
         if !(m.force_limit.is_finite() && m.force_limit > 0.0) {
@@ -179,19 +181,19 @@ impl HandMotion {
         match self.motion.clone() {
             Motion::Hold => {}
             Motion::Approach(m) => {
-                if self.move_towards(m.from, FREE_SPEED, HAND_ACCEL, dt) {
+                if self.move_towards(m.from, self.free_speed, self.accel, dt) {
                     self.motion = Motion::Guarded(m);
                 }
             }
             Motion::Guarded(m) => {
-                let accel = m.acceleration.map_or(HAND_ACCEL, |a| a.min(HAND_ACCEL));
+                let accel = m.acceleration.map_or(self.accel, |a| a.min(self.accel));
                 if self.move_towards(m.to, m.speed, accel, dt) {
                     self.motion = Motion::Hold;
                     self.outcome = Some(HandOutcome::Reached);
                 }
             }
             Motion::Retract => {
-                if self.move_towards(self.rest, FREE_SPEED, HAND_ACCEL, dt) {
+                if self.move_towards(self.rest, self.free_speed, self.accel, dt) {
                     self.motion = Motion::Hold;
                     self.outcome = Some(HandOutcome::Reached);
                 }

@@ -6,8 +6,8 @@
 mod hand;
 mod walk;
 
-pub use hand::{FREE_SPEED, HAND_ACCEL, HandMotion, MAX_GUARDED_SPEED};
-pub use walk::{ANGULAR_ACCEL, LINEAR_ACCEL, Rates, Walk, WalkLimits, step_walk, wrap};
+pub use hand::HandMotion;
+pub use walk::{Rates, Walk, WalkLimits, step_walk, wrap};
 
 /// The next speed of a motion that may accelerate at `accel` up to `max` and must stop within `remaining`.
 pub fn ramp(current: f64, max: f64, accel: f64, remaining: f64, dt: f64) -> f64 {

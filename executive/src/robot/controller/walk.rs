@@ -15,10 +15,6 @@ use crate::robot::WalkOutcome;
 const TURN_IN_PLACE: f64 = 0.05;
 /// A waypoint counts as reached within this distance (m).
 const REACHED: f64 = 1.0e-3;
-/// Linear acceleration of the base (m/s²).
-pub const LINEAR_ACCEL: f64 = 0.5;
-/// Angular acceleration of the base (rad/s²).
-pub const ANGULAR_ACCEL: f64 = 1.0;
 
 /// What the base is doing.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,13 +35,29 @@ pub enum Walk {
     },
 }
 
-/// The walking speed and turning rate a path is walked at.
+/// The walking speed and turning rate a path is walked at, and how fast they are reached.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WalkLimits {
     /// Walking speed (m/s).
     pub speed: f64,
     /// Turning rate (rad/s).
     pub turn_rate: f64,
+    /// Linear acceleration (m/s²).
+    pub linear_accel: f64,
+    /// Angular acceleration (rad/s²).
+    pub angular_accel: f64,
+}
+
+impl WalkLimits {
+    /// The limits of a robot's body.
+    pub fn of(body: &nudge_robot_model::BodyModel) -> Self {
+        Self {
+            speed: body.walk_speed,
+            turn_rate: body.turn_rate,
+            linear_accel: body.linear_accel,
+            angular_accel: body.angular_accel,
+        }
+    }
 }
 
 /// The base's current linear and turning speeds, which ramp up and down (the wrist and the hand move
@@ -84,7 +96,7 @@ pub fn step_walk(
         }
         Walk::Turn(target) => {
             let err = wrap(*target - yaw);
-            rates.angular = ramp(rates.angular, p.turn_rate, ANGULAR_ACCEL, err.abs(), dt);
+            rates.angular = ramp(rates.angular, p.turn_rate, p.angular_accel, err.abs(), dt);
             let turn = rates.angular * dt;
             yaw += err.clamp(-turn, turn);
             if err.abs() <= turn {
@@ -116,17 +128,17 @@ pub fn step_walk(
             let err = wrap(to.y.atan2(to.x) - yaw);
             if err.abs() > TURN_IN_PLACE && rates.linear > 0.0 {
                 // Facing away from the next waypoint while moving: brake first.
-                rates.linear = (rates.linear - LINEAR_ACCEL * dt).max(0.0);
+                rates.linear = (rates.linear - p.linear_accel * dt).max(0.0);
                 Some(Vector2::new(yaw.cos(), yaw.sin()) * (rates.linear * dt))
             } else if err.abs() > TURN_IN_PLACE {
-                rates.angular = ramp(rates.angular, p.turn_rate, ANGULAR_ACCEL, err.abs(), dt);
+                rates.angular = ramp(rates.angular, p.turn_rate, p.angular_accel, err.abs(), dt);
                 yaw += err.clamp(-rates.angular * dt, rates.angular * dt);
                 None
             } else {
                 // Small heading errors are steered out while walking.
                 rates.angular = 0.0;
                 yaw += err.clamp(-p.turn_rate * dt, p.turn_rate * dt);
-                rates.linear = ramp(rates.linear, p.speed, LINEAR_ACCEL, dist, dt);
+                rates.linear = ramp(rates.linear, p.speed, p.linear_accel, dist, dt);
                 Some(to / dist * (rates.linear * dt).min(dist))
             }
         }
