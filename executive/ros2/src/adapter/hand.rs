@@ -12,8 +12,9 @@ use super::{Ros2Robot, dds};
 use crate::convert::time_from_seconds;
 use crate::msg::{Header, Twist, TwistStamped, Vector3 as RosVector3};
 
-/// Readings averaged by a tare: 10 ms at 1 kHz, enough to average out the sensor's noise.
-const TARE_READINGS: usize = 10;
+/// How much of the wrist's latest stream a tare averages (s): ten samples at HRP-2's 1 kHz, enough
+/// to average out the sensor's noise while the hand stands still.
+const TARE_WINDOW: f64 = 0.01;
 
 fn tared(raw: Stamped<Wrench>, tare: &Wrench) -> Stamped<Wrench> {
     Stamped {
@@ -115,13 +116,8 @@ impl WristSensor for Ros2Robot {
     fn tare(&mut self) -> Result<(), RobotError> {
         self.pump()?;
         self.check()?;
-        let recent: Vec<_> = self
-            .inbox
-            .wrenches
-            .iter()
-            .rev()
-            .take(TARE_READINGS)
-            .collect();
+        let readings = ((self.model.wrist.rate_hz * TARE_WINDOW).ceil() as usize).max(1);
+        let recent: Vec<_> = self.inbox.wrenches.iter().rev().take(readings).collect();
         if recent.is_empty() {
             return Err(RobotError::Unavailable {
                 capability: "wrist",
