@@ -19,7 +19,7 @@ use nudge_executive::record::NullObserver;
 use nudge_executive::{CandidatePolicy, Verdict};
 use nudge_sim::run::run;
 use nudge_sim::scenario::{GRAVITY, Scenario};
-use nudge_sim::truth::{MOVABLE_MARGIN, PUSH_FORCE_LIMIT};
+use nudge_sim::truth::MOVABLE_MARGIN;
 
 /// Command-line options.
 #[derive(Parser, Debug)]
@@ -65,18 +65,20 @@ colour = [170, 120, 60]
 
 fn main() -> ExitCode {
     let options = Options::parse();
-    let movable_below = MOVABLE_MARGIN * PUSH_FORCE_LIMIT;
+    // The corridor's robot is the default one: the paper's 20 N push-test limit.
+    let limit = nudge_robot_model::ForceModel::default().test_limit;
+    let movable_below = MOVABLE_MARGIN * limit;
     println!("mass  μ     μmg    truth     seed  peak    verdict   midpoint  note");
     let (mut scored, mut right, mut over_midpoint, mut movable_tests) = (0, 0, 0, 0);
     for mass in MASSES {
         for friction in FRICTIONS {
             let slide = friction * mass * GRAVITY;
-            if !(0.4 * PUSH_FORCE_LIMIT..=1.5 * PUSH_FORCE_LIMIT).contains(&slide) {
+            if !(0.4 * limit..=1.5 * limit).contains(&slide) {
                 continue;
             }
             let truth = if slide < movable_below {
                 "movable"
-            } else if slide < PUSH_FORCE_LIMIT {
+            } else if slide < limit {
                 "unscored"
             } else {
                 "static"
@@ -97,7 +99,7 @@ fn main() -> ExitCode {
                             return ExitCode::FAILURE;
                         }
                     };
-                let midpoint = (slide + PUSH_FORCE_LIMIT) / 2.0;
+                let midpoint = (slide + limit) / 2.0;
                 let Some(test) = report.knowledge.explanation.tests.first() else {
                     println!(
                         "{mass:4.0}  {friction:.1}  {slide:5.1}  {truth:8}  {seed:4}  —       no test"

@@ -2,8 +2,9 @@
 //! point really is now.
 //!
 //! Movability rule: an object is [`Movability::Movable`] when it is a dynamic body (not bolted, not
-//! lifted) and the force to slide it, μ·m·g, is below 80 % of the push force limit
-//! ([`PUSH_FORCE_LIMIT`], the paper's 20 N) — the margin keeps borderline objects out of the score.
+//! lifted) and the force to slide it, μ·m·g, is below 80 % of the push test's force limit (the
+//! robot's, [`nudge_robot_model::ForceModel::test_limit`]: the paper's 20 N) — the margin keeps
+//! borderline objects out of the score.
 //! Everything else is [`Movability::Static`]: it would not move under a guarded push.
 
 use nalgebra::{Isometry3, Point2, Point3};
@@ -11,8 +12,6 @@ use nalgebra::{Isometry3, Point2, Point3};
 use crate::scenario::ObjectKind;
 use crate::world::World;
 
-/// The guarded push's force limit (N), the paper's 20 N.
-pub const PUSH_FORCE_LIMIT: f64 = 20.0;
 /// Fraction of the push limit a movable object's sliding force must stay below.
 pub const MOVABLE_MARGIN: f64 = 0.8;
 /// Objects faster than this are moving (m/s).
@@ -53,6 +52,11 @@ impl<'a> Truth<'a> {
         Self { world }
     }
 
+    /// The push test's force limit of the world's robot (N), which movability is judged against.
+    pub fn push_limit(&self) -> f64 {
+        self.world.robot_model().force.test_limit
+    }
+
     /// The true pose of object `i` (footprint centre on its underside), or `None` if there is none.
     pub fn object_pose(&self, i: usize) -> Option<Isometry3<f64>> {
         self.world.object_pose(i)
@@ -63,7 +67,7 @@ impl<'a> Truth<'a> {
         let (spec, _) = self.world.objects().get(i)?;
         let dynamic = !crate::world::build::is_fixed(spec);
         let slide = spec.sliding_force();
-        Some(if dynamic && slide < MOVABLE_MARGIN * PUSH_FORCE_LIMIT {
+        Some(if dynamic && slide < MOVABLE_MARGIN * self.push_limit() {
             Movability::Movable
         } else {
             Movability::Static

@@ -3,7 +3,7 @@
 
 use nudge_sim::generate::{Family, Generated, Guarantee, generate, generate_one, to_toml};
 use nudge_sim::scenario::{ExpectedOutcome, GRAVITY, Scenario};
-use nudge_sim::truth::{MOVABLE_MARGIN, PUSH_FORCE_LIMIT};
+use nudge_sim::truth::MOVABLE_MARGIN;
 
 /// Scenarios checked per family: enough to meet every branch of each family's draws.
 const PER_FAMILY: usize = 12;
@@ -77,19 +77,19 @@ fn promises(family: Family, s: &Scenario, guarantee: &Guarantee) {
             match guarantee {
                 Guarantee::WayNeeds(_) => {
                     assert!(
-                        !fixed && force < MOVABLE_MARGIN * PUSH_FORCE_LIMIT,
+                        !fixed && force < MOVABLE_MARGIN * push_limit(),
                         "{}",
                         s.name
                     )
                 }
-                Guarantee::ShutBy(_) => assert!(fixed || force >= PUSH_FORCE_LIMIT, "{}", s.name),
+                Guarantee::ShutBy(_) => assert!(fixed || force >= push_limit(), "{}", s.name),
                 Guarantee::WayExists => panic!("{}: a door family always has a blocker", s.name),
             }
             if family == Family::ForceLimit {
                 // 0.5–1.5 × the limit, never in the band the truth does not score.
                 assert!((10.0..=30.0).contains(&force), "{}: {force:.2} N", s.name);
                 assert!(
-                    !(MOVABLE_MARGIN * PUSH_FORCE_LIMIT..PUSH_FORCE_LIMIT).contains(&force),
+                    !(MOVABLE_MARGIN * push_limit()..push_limit()).contains(&force),
                     "{}: {force:.2} N in the unscored band",
                     s.name
                 );
@@ -156,4 +156,9 @@ fn promises(family: Family, s: &Scenario, guarantee: &Guarantee) {
             s.name
         );
     }
+}
+
+/// The push-test limit of the default robot, which generated rooms carry (N).
+fn push_limit() -> f64 {
+    nudge_robot_model::ForceModel::default().test_limit
 }

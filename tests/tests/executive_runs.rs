@@ -9,7 +9,7 @@ use nudge_perception::grid::{CellClass, CellIndex, Evidence};
 use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
-use nudge_sim::truth::{MOVABLE_MARGIN, Movability, PUSH_FORCE_LIMIT, Truth};
+use nudge_sim::truth::{MOVABLE_MARGIN, Movability, Truth};
 use nudge_tests::print_timeline;
 use nudge_tests::truth::{Scored, score};
 
@@ -62,7 +62,7 @@ fn assert_force_within_limit(report: &RunReport) {
 /// object margin, it does not read it as static by a transient.
 fn assert_movable_peaks_have_margin(name: &str, report: &RunReport, scored: &[Scored]) {
     let scenario = nudge_tests::scenario(name).expect("scenario loads");
-    let limit = PUSH_FORCE_LIMIT;
+    let limit = scenario.robot.model().force.test_limit;
     for t in &report.knowledge.explanation.tests {
         let Some(spec) = scored
             .iter()

@@ -27,8 +27,6 @@ const CAPTION_SIZE: u32 = 14;
 const X_AXIS: u32 = 40;
 const Y_AXIS: u32 = 60;
 const MARGIN: u32 = 15;
-/// The push limit when a test reported none (N), the paper's 20 N.
-const DEFAULT_LIMIT: f64 = 20.0;
 
 const TRACK: RGBColor = RGBColor(150, 20, 160);
 const PATH: RGBColor = RGBColor(20, 160, 60);
@@ -229,7 +227,10 @@ fn draw_map(run: &MapCollector, area: &Area<'_>, right: u32) -> DrawResult {
 
 fn draw_forces(n: usize, test: &ForceTrace, area: &Area<'_>, run: &MapCollector) -> DrawResult {
     let area = area.margin(10, 10, 10, 10);
-    let limit = test.limit.unwrap_or(DEFAULT_LIMIT);
+    // A test that reported no limit was the default robot's.
+    let limit = test
+        .limit
+        .unwrap_or_else(|| nudge_robot_model::ForceModel::default().test_limit);
     let t0 = test.samples.first().map_or(0.0, |s| s.0);
     let duration = test.samples.last().map_or(1.0, |s| s.0 - t0).max(0.1);
     let peak = test.samples.iter().map(|s| s.1).fold(0.0, f64::max);

@@ -7,7 +7,7 @@ use super::{bare, cm};
 use crate::generate::Guarantee;
 use crate::generate::furniture::{FloorPlan, heavy, light, partition, with_slide};
 use crate::scenario::{ObjectKind, Scenario};
-use crate::truth::{MOVABLE_MARGIN, PUSH_FORCE_LIMIT};
+use crate::truth::MOVABLE_MARGIN;
 
 /// Clear disc kept in front of and behind a doorway (m): the robot lines up to pass it.
 const DOORWAY_CLEAR: f64 = 0.9;
@@ -115,11 +115,13 @@ pub(super) fn blocked_door(rng: &mut ChaCha8Rng, blocker: Blocker) -> (Scenario,
         Blocker::NearTheLimit => {
             spec.mass = rng.random_range(6.0..12.0);
             let slides = rng.random_bool(0.5);
-            // 0.5–0.8 × the limit slides by the truth's rule; 1.0–1.5 × does not slide at all.
+            // 0.5–0.8 × the limit slides by the truth's rule; 1.0–1.5 × does not slide at all. The
+            // generated rooms carry the default robot, whose limit this is.
+            let limit = nudge_robot_model::ForceModel::default().test_limit;
             let force = if slides {
-                rng.random_range(0.5 * PUSH_FORCE_LIMIT..MOVABLE_MARGIN * PUSH_FORCE_LIMIT)
+                rng.random_range(0.5 * limit..MOVABLE_MARGIN * limit)
             } else {
-                rng.random_range(PUSH_FORCE_LIMIT..1.5 * PUSH_FORCE_LIMIT)
+                rng.random_range(limit..1.5 * limit)
             };
             spec = with_slide(spec, force);
             spec.friction = (spec.friction * 1000.0).round() / 1000.0;
