@@ -176,11 +176,21 @@ impl Default for ArmModel {
 pub struct WristModel {
     /// Sample rate (Hz): the paper's 1 kHz control loop.
     pub rate_hz: f64,
+    /// Linear stiffness between the arm and the hand, sensor included (N/m): arm and sensor are not
+    /// infinitely stiff. 20 kN/m makes a 0.1 m/s push into something fixed rise by at most 2 N per
+    /// 1 ms sample; it bounds how fast the force can rise, which says how often a guard must look.
+    pub stiffness: f64,
+    /// Damping of that compliance (N·s/m), near critical for the hand's 0.5 kg.
+    pub damping: f64,
 }
 
 impl Default for WristModel {
     fn default() -> Self {
-        Self { rate_hz: 1000.0 }
+        Self {
+            rate_hz: 1000.0,
+            stiffness: 20_000.0,
+            damping: 200.0,
+        }
     }
 }
 

@@ -138,6 +138,8 @@ impl RobotModel {
             self.wrist.rate_hz.is_finite() && (1.0..=1.0e6).contains(&self.wrist.rate_hz),
             format!("must lie in [1, 1e6] Hz, got {}", self.wrist.rate_hz),
         )?;
+        positive("wrist.stiffness", self.wrist.stiffness)?;
+        positive("wrist.damping", self.wrist.damping)?;
         let f = &self.force;
         positive("force.contact_threshold", f.contact_threshold)?;
         for (field, limit) in [

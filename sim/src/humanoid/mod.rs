@@ -20,12 +20,6 @@ use walk::WalkParams;
 
 /// Distance the walking body keeps from obstacles (m).
 pub const SAFETY_MARGIN: f64 = 0.015;
-/// Stiffness of the wrist's linear compliance (N/m): arm and sensor are not infinitely stiff, and a
-/// rigid wrist driven kinematically into a fixed obstacle would read an arbitrary solver force.
-/// 20 kN/m makes a 0.1 m/s push rise by at most 2 N per 1 ms step.
-pub const WRIST_STIFFNESS: f64 = 20_000.0;
-/// Damping of the wrist compliance, near critical for the hand's mass (N·s/m).
-pub const WRIST_DAMPING: f64 = 200.0;
 /// Colour of the robot's parts as the range sensor sees them.
 const ROBOT_COLOUR: [u8; 3] = [230, 230, 235];
 
@@ -144,10 +138,13 @@ impl Humanoid {
                 .colliders
                 .insert_with_parent(hand_box, hand, &mut physics.bodies);
         let mut joint = GenericJointBuilder::new(JointAxesMask::ANG_AXES).contacts_enabled(false);
+        // The robot's wrist compliance (a rigid wrist driven kinematically into a fixed obstacle
+        // would read an arbitrary solver force).
+        let (stiffness, damping) = (model.wrist.stiffness as f32, model.wrist.damping as f32);
         for axis in [JointAxis::LinX, JointAxis::LinY, JointAxis::LinZ] {
             joint = joint
                 .motor_model(axis, MotorModel::ForceBased)
-                .motor_position(axis, 0.0, WRIST_STIFFNESS as f32, WRIST_DAMPING as f32);
+                .motor_position(axis, 0.0, stiffness, damping);
         }
         let joint = physics
             .impulse_joints

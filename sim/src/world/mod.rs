@@ -5,8 +5,9 @@
 //! [`NEAR_CONTACT`] of something it could touch (the guarded-move check runs every step, and every
 //! contact is resolved at the wrist sensor's 1 kHz); 10 ms steps otherwise, aligned to a 10 ms grid.
 //! A steady push far below its guard's limit is the exception (see `World::steady_push`): once the
-//! hand has pressed with at least [`PRESSING_FORCE`] for [`STEADY_PRESS_US`] and the force lies
-//! further below the limit than a 10 ms step can raise it (at least [`COARSE_PUSH_MARGIN`]), the
+//! hand has pressed with at least the robot's contact threshold for [`STEADY_PRESS_US`] and the
+//! force lies further below the limit than a 10 ms step can raise it (the guard's pace,
+//! [`nudge_executive::robot::controller::steady_push`]), the
 //! guard cannot be skipped, and a long clearing push is stepped in 10 ms steps made of ten fine
 //! steps' solver substeps (same contact and wrist dynamics; collision detection, the guard and the
 //! sensor's fresh value every 10 ms) until the force comes near its limit again.
@@ -29,13 +30,14 @@ use rapier3d::parry::query;
 use rapier3d::prelude::*;
 
 use crate::actors::Actor;
-use crate::humanoid::{Humanoid, WRIST_STIFFNESS};
+use crate::humanoid::Humanoid;
 use crate::scenario::{ObjectSpec, Scenario};
 use crate::sensors::wrist_ft::{WristFt, WristFtConfig, WristFtError, wrench_on_wrist};
 use crate::surface::Surface;
 use convert::iso_from_pose;
 use effort::Effort;
 use nudge_executive::robot::controller::Walk;
+use nudge_executive::robot::controller::{STEADY_PRESS_US, STEADY_STEP_US, steady_push};
 use nudge_robot_model::RobotModel;
 
 /// Physics step while the hand moves or touches (µs): the wrist sensor's 1 kHz.
@@ -49,25 +51,15 @@ pub const FINE_SUBSTEPS: usize = 1;
 pub const FINE_PGS_ITERATIONS: usize = 2;
 /// Solver substeps of a coarse step (rapier's default).
 pub const COARSE_SUBSTEPS: usize = 4;
-/// Physics step otherwise (µs).
-pub const COARSE_STEP_US: u64 = 10_000;
+/// Physics step otherwise (µs): the pace at which a guard may read a steady push, so a steady push
+/// is stepped coarsely.
+pub const COARSE_STEP_US: u64 = STEADY_STEP_US;
 /// A hand on a guarded line steps finely once anything it can touch is this close (m, between the
 /// shapes). A coarse step moves the hand at most 5 mm along a line (0.5 m/s, the fastest guarded
 /// move) plus 1.5 mm with the walking base: 1 cm is more than a coarse step of warning.
 pub const NEAR_CONTACT: f32 = 0.01;
 /// How far a contact pair may move before rapier recomputes its contact points (m).
 pub const CONTACT_RECYCLE_DISTANCE: f32 = 0.002;
-/// Tared wrist force (N) from which a touch counts as pressing: the executive's contact threshold.
-/// A hand resting against something at the noise's level is not yet pushing it.
-pub const PRESSING_FORCE: f64 = 2.0;
-/// How long the hand must have pressed, without a break, before a push counts as steady (µs): the
-/// impact has rung out (the wrist is critically damped, its period 31 ms) and a movable object slides.
-pub const STEADY_PRESS_US: u64 = 200_000;
-/// The least distance (N) between the tared force and the guard's limit for a steady push to be
-/// stepped coarsely. A jam raises the force by at most stiffness × speed × step, 4 N in a 10 ms step at
-/// the executive's 2 cm/s, so the step that follows is fine again before the limit can be reached; a
-/// chair's push test (15–19 N against 20 N) never qualifies, a clearing push (15 N against 30 N) does.
-pub const COARSE_PUSH_MARGIN: f64 = 10.0;
 /// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
 /// presses on something that does not give (three times the paper's 20 N push limit).
 pub const HAND_OVERLOAD: f64 = 60.0;
@@ -128,7 +120,7 @@ pub struct World {
     /// The true wrench on the wrist during the last physics step.
     wrist_truth: Wrench,
     /// When the hand's current unbroken press began (µs): it touches something and the tared force
-    /// is at least [`PRESSING_FORCE`].
+    /// is at least the robot's contact threshold.
     pressed_since_us: Option<u64>,
     time_us: u64,
     seed: u64,
@@ -409,7 +401,11 @@ impl World {
             && self
                 .wrist_ft
                 .latest()
-                .is_some_and(|r| r.value.force_norm() >= PRESSING_FORCE);
+                // The executive's contact threshold: a hand resting against something at the
+                // noise's level is not yet pushing it.
+                .is_some_and(|r| {
+                    r.value.force_norm() >= self.robot_model().force.contact_threshold
+                });
         self.pressed_since_us = pressing.then(|| self.pressed_since_us.unwrap_or(self.time_us));
         self.hand_touching = touching;
         if touching {
@@ -426,10 +422,8 @@ impl World {
     }
 
     /// Whether the hand, touching something, pushes steadily along a guarded line with the force
-    /// so far below the limit that a coarse step cannot carry it past: the press has lasted
-    /// [`STEADY_PRESS_US`], the base stands, and the latest tared force lies at least
-    /// [`COARSE_PUSH_MARGIN`], and twice what the wrist's stiffness can add at the line's speed in
-    /// one coarse step, below the guard's limit.
+    /// so far below the limit that a coarse step cannot carry it past: the guard's pace
+    /// ([`steady_push`]) with the press lasting [`STEADY_PRESS_US`] and the robot's wrist stiffness.
     fn steady_push(&self) -> bool {
         let Some((limit, speed)) = self.humanoid.arm().guarded_line() else {
             return false;
@@ -441,9 +435,14 @@ impl World {
         let Some(reading) = self.wrist_ft.latest() else {
             return false;
         };
-        let rise = WRIST_STIFFNESS * speed * COARSE_STEP_US as f64 * 1.0e-6;
-        let margin = COARSE_PUSH_MARGIN.max(2.0 * rise);
-        held && standing && reading.value.force_norm() + margin <= limit
+        steady_push(
+            reading.value.force_norm(),
+            limit,
+            speed,
+            self.robot_model().wrist.stiffness,
+            held,
+            standing,
+        )
     }
 
     /// Whether anything the hand can touch lies within [`NEAR_CONTACT`] of it: the broad phase's

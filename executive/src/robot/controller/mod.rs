@@ -3,9 +3,11 @@
 //! the same ones to turn the executive's actions into the velocity commands a real robot's
 //! controllers take (`/cmd_vel`, a Cartesian servo), so both move alike.
 
+mod guard_pace;
 mod hand;
 mod walk;
 
+pub use guard_pace::{STEADY_MARGIN, STEADY_PRESS_US, STEADY_STEP_US, steady_push};
 pub use hand::HandMotion;
 pub use walk::{Rates, Walk, WalkLimits, step_walk, wrap};
 
