@@ -150,8 +150,11 @@ impl SimBridge {
             clock: node.publisher(&t.clock, command)?,
             tf: node.publisher(&t.tf, sensor)?,
             joints: node.publisher(&t.joint_states, sensor)?,
-            // Up to a stretch's worth of samples go at once: keep them all for a best-effort reader.
-            wrench: node.publisher(&t.wrench, sensor)?,
+            // Up to a stretch's worth of samples go at once: the adapter's history for them.
+            wrench: node.publisher(
+                &t.wrench,
+                nudge_ros2::adapter::wrench_qos(sensor, robot.world().robot_model()),
+            )?,
             cloud: node.publisher(&t.cloud, sensor)?,
             cmd_vel: node.subscription(&t.cmd_vel, command)?,
             head: node.subscription(&t.head, command)?,

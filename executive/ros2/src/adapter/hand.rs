@@ -30,9 +30,13 @@ impl Ros2Robot {
     /// Checks the newest reading against the guarded move's limit; stops the hand when it is reached.
     pub(super) fn guard(&mut self) -> Result<(), RobotError> {
         let (Some(limit), Some(raw)) = (self.hand.guard(), self.inbox.latest_wrench) else {
+            self.pressed_since = None;
             return Ok(());
         };
         let reading = tared(raw, &self.tare);
+        let pressing = self.hand.guarded_line().is_some()
+            && reading.value.force_norm() >= self.model.force.contact_threshold;
+        self.pressed_since = pressing.then(|| self.pressed_since.unwrap_or(reading.stamp));
         if reading.value.force_norm() >= limit {
             let at = self
                 .hand_in_base()

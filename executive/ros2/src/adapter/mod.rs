@@ -19,7 +19,9 @@ mod inbox;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use nalgebra::{Isometry2, Point3};
-use nudge_executive::robot::controller::{HandMotion, Rates, Walk};
+use nudge_executive::robot::controller::{
+    HandMotion, Rates, STEADY_PRESS_US, STEADY_STEP_US, Walk, steady_push,
+};
 use nudge_executive::robot::{Clock, RobotError};
 use nudge_robot_model::RobotModel;
 
@@ -75,6 +77,18 @@ pub struct Ros2Robot {
     hand_moving: bool,
     /// Subtracted from raw wrist readings.
     tare: nudge_executive::robot::Wrench,
+    /// When the hand's current unbroken press on a guarded line began (robot time, s).
+    pressed_since: Option<f64>,
+}
+
+/// The wrist stream's QoS: the sensor profile, its history deep enough for two of the executive's
+/// ticks of samples, which a lock-stepped simulator sends at once after each stretch of time.
+pub fn wrench_qos(sensor: crate::config::Qos, model: &RobotModel) -> crate::config::Qos {
+    let tick_samples = (model.wrist.rate_hz * 0.1).ceil() as u32;
+    crate::config::Qos {
+        depth: sensor.depth.max(tick_samples),
+        ..sensor
+    }
 }
 
 fn dds(e: DdsError) -> RobotError {
@@ -99,7 +113,9 @@ impl Ros2Robot {
             clock: node.subscription(&t.clock, sensor).map_err(dds)?,
             tf: node.subscription(&t.tf, sensor).map_err(dds)?,
             joints: node.subscription(&t.joint_states, sensor).map_err(dds)?,
-            wrench: node.subscription(&t.wrench, sensor).map_err(dds)?,
+            wrench: node
+                .subscription(&t.wrench, wrench_qos(sensor, &model))
+                .map_err(dds)?,
             cloud: node.subscription(&t.cloud, sensor).map_err(dds)?,
         };
         let hand = HandMotion::new(&model.arm);
@@ -117,6 +133,7 @@ impl Ros2Robot {
             hand,
             hand_moving: false,
             tare: Default::default(),
+            pressed_since: None,
         };
         let deadline = Instant::now() + CONNECT_TIMEOUT;
         let mut last_ask = Instant::now() - RESEND;
@@ -276,6 +293,21 @@ impl Ros2Robot {
         }
     }
 
+    /// Whether the guarded line under way is a steady push the guard may read at its coarser pace
+    /// (the shared rule the simulation steps by).
+    fn steady(&self) -> bool {
+        let (Some((limit, speed)), Some(raw)) = (self.hand.guarded_line(), self.inbox.latest_wrench)
+        else {
+            return false;
+        };
+        let force = (raw.value.force - self.tare.force).norm();
+        let held = self
+            .pressed_since
+            .is_some_and(|since| raw.stamp - since >= STEADY_PRESS_US as f64 * 1.0e-6 - 1.0e-9);
+        let standing = matches!(self.walk, Walk::Idle(_));
+        steady_push(force, limit, speed, self.model.wrist.stiffness, held, standing)
+    }
+
     /// A hand position from the transform tree: the hand frame in the base frame.
     fn hand_in_base(&self) -> Result<(Point3<f64>, f64), RobotError> {
         let (pose, stamp) = self.inbox.lookup(
@@ -310,12 +342,14 @@ impl Clock for Ros2Robot {
             if left <= 1e-9 {
                 return Ok(());
             }
-            // A guarded move goes one wrist period at a time: the guard reads every sample before
-            // the hand is commanded on.
-            let chunk = if self.hand.guard().is_some() {
-                left.min(period)
-            } else {
+            // A guarded move goes one wrist period at a time, so the guard reads every sample before
+            // the hand is commanded on; a steady push far below its limit at the guard's coarser pace.
+            let chunk = if self.hand.guard().is_none() {
                 left
+            } else if self.steady() {
+                left.min(STEADY_STEP_US as f64 * 1.0e-6)
+            } else {
+                left.min(period)
             };
             self.run_for(chunk)?;
         }
