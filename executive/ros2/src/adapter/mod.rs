@@ -296,7 +296,8 @@ impl Ros2Robot {
     /// Whether the guarded line under way is a steady push the guard may read at its coarser pace
     /// (the shared rule the simulation steps by).
     fn steady(&self) -> bool {
-        let (Some((limit, speed)), Some(raw)) = (self.hand.guarded_line(), self.inbox.latest_wrench)
+        let (Some((limit, speed)), Some(raw)) =
+            (self.hand.guarded_line(), self.inbox.latest_wrench)
         else {
             return false;
         };
@@ -305,7 +306,14 @@ impl Ros2Robot {
             .pressed_since
             .is_some_and(|since| raw.stamp - since >= STEADY_PRESS_US as f64 * 1.0e-6 - 1.0e-9);
         let standing = matches!(self.walk, Walk::Idle(_));
-        steady_push(force, limit, speed, self.model.wrist.stiffness, held, standing)
+        steady_push(
+            force,
+            limit,
+            speed,
+            self.model.wrist.stiffness,
+            held,
+            standing,
+        )
     }
 
     /// A hand position from the transform tree: the hand frame in the base frame.
