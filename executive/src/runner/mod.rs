@@ -90,7 +90,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     pub fn new(robot: R, observer: O, config: RunConfig) -> Self {
         let rng = ChaCha8Rng::seed_from_u64(config.seed);
         Self {
-            robot: Watchdog::new(robot, config.model.body.walk_speed),
+            robot: Watchdog::new(robot, &config.model),
             observer,
             config,
             world: WorldModel::default(),

@@ -9,9 +9,9 @@
 //! safe stop (arm retracted) and `Aborted` with the reason.
 //!
 //! A deadline is [`FACTOR`] × the action's nominal duration + [`SLACK`]. The nominal duration comes
-//! from the command and the slowest robot the executive is meant for, never from one adapter's
-//! speeds: a walk's path length at the configured walking speed plus a half turn per waypoint at
-//! [`TURN_RATE_FLOOR`]; a head motion's largest angle at [`HEAD_RATE_FLOOR`]; a guarded move's way
+//! from the command and the robot description, with room for a robot slower than described: a
+//! walk's path length at the walking speed plus a half turn per waypoint at [`TURN_RATE_SHARE`] of
+//! the turning rate; a head motion's largest angle at [`HEAD_RATE_SHARE`] of the head's rate; a guarded move's way
 //! to its line and the line itself at the move's own speed (the hand goes to the line faster than
 //! that), plus the time its acceleration takes to reach that speed; a retract at
 //! [`RETRACT_NOMINAL`]. Deadlines count the robot time the runner lets pass (`Clock::advance`),
@@ -31,11 +31,13 @@ pub(crate) const FACTOR: f64 = 2.0;
 /// Added to every deadline (s): an action of no length still needs its controller to answer.
 pub(crate) const SLACK: f64 = 5.0;
 
-/// Slowest turning rate assumed of a base (rad/s); the simulation's and the fake's turn at 0.5.
-pub(crate) const TURN_RATE_FLOOR: f64 = 0.25;
+/// Share of the described turning rate a base is assumed to reach at least: a turn may take twice
+/// its time (the ramps, a controller slower than its description).
+pub(crate) const TURN_RATE_SHARE: f64 = 0.5;
 
-/// Slowest pan/tilt rate assumed of a head (rad/s); the simulation's and the fake's move at 1.
-pub(crate) const HEAD_RATE_FLOOR: f64 = 0.25;
+/// Share of the described pan/tilt rate a head is assumed to reach at least: a trajectory
+/// controller's acceleration limits and settling can make a short motion four times as long.
+pub(crate) const HEAD_RATE_SHARE: f64 = 0.25;
 
 /// Nominal duration of a retract (s): the hand comes back at most the arm's reach (under 1 m) at
 /// 0.1 m/s, half the simulation's free hand speed. The runner's safe stop waits 400 ticks (20 s) for
@@ -57,6 +59,10 @@ struct Deadline {
 pub(crate) struct Watchdog<R> {
     inner: R,
     walk_speed: f64,
+    /// Slowest turning rate assumed of the base (rad/s).
+    turn_floor: f64,
+    /// Slowest pan/tilt rate assumed of the head (rad/s).
+    head_floor: f64,
     elapsed: f64,
     walk: Option<Deadline>,
     head: Option<Deadline>,
@@ -67,11 +73,13 @@ pub(crate) struct Watchdog<R> {
 }
 
 impl<R: Robot> Watchdog<R> {
-    /// Wraps `inner`, whose walks are planned at `walk_speed` (m/s).
-    pub(crate) fn new(inner: R, walk_speed: f64) -> Self {
+    /// Wraps `inner`, a robot as `model` describes it.
+    pub(crate) fn new(inner: R, model: &nudge_robot_model::RobotModel) -> Self {
         Self {
             inner,
-            walk_speed: walk_speed.max(1e-3),
+            walk_speed: model.body.walk_speed.max(1e-3),
+            turn_floor: (TURN_RATE_SHARE * model.body.turn_rate).max(1e-3),
+            head_floor: (HEAD_RATE_SHARE * model.head.rate).max(1e-3),
             elapsed: 0.0,
             walk: None,
             head: None,
@@ -146,14 +154,14 @@ impl<R: Robot> Watchdog<R> {
             .zip(waypoints)
             .map(|(a, b)| (b - a).norm())
             .sum();
-        let turns = waypoints.len() as f64 * std::f64::consts::PI / TURN_RATE_FLOOR;
+        let turns = waypoints.len() as f64 * std::f64::consts::PI / self.turn_floor;
         self.walk = self.deadline(length / self.walk_speed + turns);
         Ok(())
     }
 
     pub(crate) fn start_turn(&mut self, yaw: f64) -> Result<(), RobotError> {
         self.inner.start_turn(yaw)?;
-        self.walk = self.deadline(std::f64::consts::PI / TURN_RATE_FLOOR);
+        self.walk = self.deadline(std::f64::consts::PI / self.turn_floor);
         Ok(())
     }
 
@@ -189,7 +197,7 @@ impl<R: Robot> Watchdog<R> {
         let angle = self.angles.map_or(std::f64::consts::PI, |(p, t)| {
             (pan - p).abs().max((tilt - t).abs())
         });
-        self.head = self.deadline(angle / HEAD_RATE_FLOOR);
+        self.head = self.deadline(angle / self.head_floor);
         Ok(())
     }
 
@@ -290,7 +298,7 @@ mod tests {
         // Invariant: a guarded move that never finishes fails its status poll with a Timeout once FACTOR × its nominal duration + SLACK of robot time has passed, not before; the hand is then stopped, so a retract can follow.
         let fake = FakeRobot::new(Isometry2::new(Vector2::zeros(), 0.0));
         let stalled = ArmStall::new(fake, FaultWindow::once(Trigger::Always), 0.0);
-        let mut robot = Watchdog::new(stalled, 0.15);
+        let mut robot = Watchdog::new(stalled, &nudge_robot_model::RobotModel::default());
         robot.hand_position().expect("hand");
         let [x, y, z] = nudge_robot_model::RobotModel::default().arm.rest;
         let motion = GuardedMove {
