@@ -3,10 +3,13 @@
 //! publishes what a robot publishes (`/clock`, `/tf`, `/joint_states`, the wrist's
 //! `WrenchStamped` at its sample rate, `PointCloud2` frames), on the topics a [`Ros2Config`] names.
 //!
-//! It is lock-stepped: time runs only when a client asks it to run to a time (the config's `step`
-//! topic), so a run over DDS is the in-process run's physics however slow or loaded the machine.
-//! Each stretch it applies the latest commands, steps the world, then publishes the wrist samples
-//! taken meanwhile, the transforms and joints, a frame if one was asked for, and last the clock.
+//! It runs at one of two paces ([`Pace`]). Lock-stepped, time runs only when a client asks it to
+//! run to a time (the config's `step` topic), so a run over DDS is the in-process run's physics
+//! however slow or loaded the machine. Free-running, it runs on by itself at a real-time factor, as
+//! a simulator does for any ROS 2 client (teleoperation, RViz, another executive), and step
+//! requests are ignored. Each stretch it applies the latest commands, steps the world, then
+//! publishes the wrist samples taken meanwhile, the transforms and joints, a frame if one was asked
+//! for, and last the clock.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -96,6 +99,28 @@ impl std::str::FromStr for ScheduledFault {
         })
     }
 }
+
+/// How the bridge lets time pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pace {
+    /// Only when a client asks; the session ends once the client has been silent this long (wall).
+    LockStep {
+        /// Silence after which the session ends.
+        idle: Duration,
+    },
+    /// By itself, at `factor` × real time (or as fast as the machine allows, when slower), until
+    /// stopped or, with `until`, until that robot time.
+    Free {
+        /// Robot seconds per wall second.
+        factor: f64,
+        /// Robot time (s) at which the session ends.
+        until: Option<f64>,
+    },
+}
+
+/// Robot time a free-running bridge runs between two publications of its state (s): transforms,
+/// joints and the clock at 100 Hz of robot time, every wrist sample all the same.
+const FREE_PERIOD: f64 = 0.01;
 
 /// How a bridge session ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -205,8 +230,50 @@ impl SimBridge {
     pub fn serve(
         &mut self,
         stop: &Arc<AtomicBool>,
-        idle: Duration,
+        pace: Pace,
     ) -> Result<BridgeReport, BridgeError> {
+        match pace {
+            Pace::LockStep { idle } => self.lock_step(stop, idle)?,
+            Pace::Free { factor, until } => self.free_run(stop, factor, until)?,
+        }
+        self.report.robot_time = self.robot.world().time();
+        let humanoid = self.robot.world().humanoid();
+        self.report.hand_from_rest = (humanoid.arm().command - humanoid.arm().rest()).norm();
+        Ok(self.report.clone())
+    }
+
+    /// Runs on by itself at `factor` × real time, publishing every [`FREE_PERIOD`] of robot time.
+    fn free_run(
+        &mut self,
+        stop: &Arc<AtomicBool>,
+        factor: f64,
+        until: Option<f64>,
+    ) -> Result<(), BridgeError> {
+        let started = Instant::now();
+        let t0 = self.robot.world().time();
+        while !stop.load(Ordering::Relaxed) {
+            let now = self.robot.world().time();
+            if until.is_some_and(|end| now >= end) {
+                break;
+            }
+            // Step requests are a lock-stepped bridge's; here they are read and dropped.
+            while self.io.step.take()?.is_some() {}
+            self.take_commands();
+            if self.silent {
+                self.node.wait(Duration::from_millis(20));
+                continue;
+            }
+            self.run_to(now + FREE_PERIOD)?;
+            let due = Duration::from_secs_f64((self.robot.world().time() - t0) / factor);
+            if let Some(ahead) = due.checked_sub(started.elapsed()) {
+                self.node.wait(ahead);
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs only when asked, until the client has been silent for `idle`.
+    fn lock_step(&mut self, stop: &Arc<AtomicBool>, idle: Duration) -> Result<(), BridgeError> {
         let mut last_request: Option<Instant> = None;
         while !stop.load(Ordering::Relaxed) {
             self.take_commands();
@@ -231,10 +298,7 @@ impl SimBridge {
                 }
             }
         }
-        self.report.robot_time = self.robot.world().time();
-        let humanoid = self.robot.world().humanoid();
-        self.report.hand_from_rest = (humanoid.arm().command - humanoid.arm().rest()).norm();
-        Ok(self.report.clone())
+        Ok(())
     }
 
     fn refused(&mut self, what: &str, why: impl std::fmt::Display) {

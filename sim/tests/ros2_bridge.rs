@@ -118,6 +118,17 @@ fn a_robot_that_goes_quiet_ends_the_run_aborted_not_hung() {
 }
 
 #[test]
+fn a_free_running_bridge_runs_by_itself_to_its_end_time() {
+    // Invariant: with --real-time-factor the bridge needs no client: its simulated time runs on by itself and it ends at --until, having taken no step request.
+    let out =
+        in_private_network("timeout 60 \"$NUDGE\" sim-bridge --real-time-factor 20 --until 2");
+    let all = text(&out);
+    assert!(out.status.success(), "{all}");
+    assert!(all.contains("free-running at 20× real time"), "{all}");
+    assert!(all.contains("ended at 2.0 s robot time"), "{all}");
+}
+
+#[test]
 fn no_robot_to_reach_is_an_error_not_a_hang() {
     // Invariant: `nudge run --robot ros2` with nobody on the graph stops with an error naming the ROS 2 side, after the connect timeout, never a panic.
     let out = in_private_network("timeout 120 \"$NUDGE\" run --quiet --robot ros2");

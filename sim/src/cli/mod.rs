@@ -90,9 +90,17 @@ struct SimBridgeArgs {
     /// The ROS 2 graph (topics, frames, QoS, domain) as TOML; every field defaults.
     #[arg(long, value_name = "FILE.toml")]
     ros2: Option<PathBuf>,
-    /// Seconds without a step request, once a client has asked, after which the bridge ends.
+    /// Seconds without a step request, once a client has asked, after which a lock-stepped bridge
+    /// ends.
     #[arg(long, default_value_t = 5.0)]
     idle: f64,
+    /// Run by itself at this many robot seconds per wall second instead of lock-stepped to a
+    /// client (for ROS 2 clients other than nudge: teleoperation, RViz).
+    #[arg(long, value_name = "FACTOR")]
+    real_time_factor: Option<f64>,
+    /// With --real-time-factor: end at this robot time (s); Ctrl-C otherwise.
+    #[arg(long, value_name = "SECONDS", requires = "real_time_factor")]
+    until: Option<f64>,
     /// Put a fault on the wire at a robot time, to test a client: KIND@SECONDS, KIND one of
     /// nan-wrench, clock-back, stale-camera-tf, quiet. Repeatable.
     #[arg(long, value_name = "KIND@SECONDS")]

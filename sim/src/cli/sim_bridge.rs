@@ -12,7 +12,7 @@ use nudge_ros2::config::Ros2Config;
 use super::SimBridgeArgs;
 use super::source::Source;
 use crate::adapter::SimRobot;
-use crate::bridge::SimBridge;
+use crate::bridge::{Pace, SimBridge};
 
 /// The ROS 2 graph from `path`, or the defaults; a bad file is an error placed at its line.
 pub(super) fn ros2_config(path: Option<&Path>) -> anyhow::Result<Ros2Config> {
@@ -34,6 +34,21 @@ pub(super) fn sim_bridge(args: SimBridgeArgs) -> anyhow::Result<ExitCode> {
             args.idle
         );
     }
+    let pace = match args.real_time_factor {
+        None => Pace::LockStep {
+            idle: Duration::from_secs_f64(args.idle),
+        },
+        Some(factor) if factor.is_finite() && factor > 0.0 => Pace::Free {
+            factor,
+            until: args.until,
+        },
+        Some(factor) => anyhow::bail!("--real-time-factor must be positive, got {factor}"),
+    };
+    if let Some(until) = args.until
+        && !(until.is_finite() && until >= 0.0)
+    {
+        anyhow::bail!("--until must be a non-negative number of seconds, got {until}");
+    }
     let Source {
         file: file_name,
         scenario,
@@ -49,14 +64,18 @@ pub(super) fn sim_bridge(args: SimBridgeArgs) -> anyhow::Result<ExitCode> {
     let robot = SimRobot::new(&scenario, seed)?;
     let mut bridge = SimBridge::new(robot, config)?.with_faults(args.fault);
     println!(
-        "sim-bridge: {} ({file_name}), seed {seed}: serving over ROS 2, lock-stepped",
-        scenario.name
+        "sim-bridge: {} ({file_name}), seed {seed}: serving over ROS 2, {}",
+        scenario.name,
+        match pace {
+            Pace::LockStep { .. } => "lock-stepped".to_string(),
+            Pace::Free { factor, .. } => format!("free-running at {factor}× real time"),
+        }
     );
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
     let started = Instant::now();
-    let report = bridge.serve(&stop, Duration::from_secs_f64(args.idle))?;
+    let report = bridge.serve(&stop, pace)?;
     println!(
         "sim-bridge: ended at {:.1} s robot time after {:.1} s wall: {} steps, {} frames, {} command(s) refused, hand {:.1} mm from rest",
         report.robot_time,

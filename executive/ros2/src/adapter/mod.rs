@@ -37,6 +37,9 @@ use inbox::Inbox;
 /// How long [`Ros2Robot::connect`] waits for the robot to be heard (wall time): DDS discovery takes
 /// a few hundred milliseconds on one machine, a second or two across a network.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(20);
+/// Robot time past the end of a stretch (s) that the hand's profile catches up: far above the
+/// clock's nanosecond rounding, far below a wrist period.
+const LATE: f64 = 1.0e-6;
 /// How often a lock-stepped step request is sent again while nothing comes back (wall time): the
 /// clock travels best effort and one lost sample must not stall the run.
 const RESEND: Duration = Duration::from_millis(250);
@@ -257,10 +260,23 @@ impl Ros2Robot {
 
     /// Runs one stretch of robot time of `dt` seconds: commands for it, then the wait.
     fn run_for(&mut self, dt: f64) -> Result<(), RobotError> {
-        let start = self.now();
-        let end = start + dt;
+        let end = self.now() + dt;
         self.command_base(dt)?;
         self.command_hand(dt)?;
+        self.wait_until(end)?;
+        // A robot that ran on past `end` (a free-running simulator between its clock messages, a
+        // late wake-up on the wall clock) moved the hand at the commanded velocity all the while:
+        // the hand's profile catches up, so what is commanded next starts where the hand is.
+        let late = self.now() - end;
+        if late > LATE {
+            self.hand.step(late);
+        }
+        Ok(())
+    }
+
+    /// Waits until the robot's time reaches `end`: with sim time, asks a lock-stepped simulator to
+    /// get there and waits for its clock, base transform and (with the hand moving) wrist sample.
+    fn wait_until(&mut self, end: f64) -> Result<(), RobotError> {
         if self.config.use_sim_time {
             self.ask_step(end)?;
             let hand = self.hand_moving;
