@@ -29,6 +29,14 @@ fn twist(linear: Vector2<f64>, angular: f64) -> Twist {
     }
 }
 
+/// Whether a base told to go from `from` to `to` and found at `now` was stopped short by the
+/// robot's own safety layer: it made less than [`BLOCKED_SHARE`] of a step long enough to judge.
+fn stopped_short(from: &Isometry2<f64>, to: &Isometry2<f64>, now: &Isometry2<f64>) -> bool {
+    let wanted = (to.translation.vector - from.translation.vector).norm();
+    let made = (now.translation.vector - from.translation.vector).norm();
+    wanted > JUDGED && made < BLOCKED_SHARE * wanted
+}
+
 impl Ros2Robot {
     fn pose2(&self) -> Result<Stamped<Isometry2<f64>>, RobotError> {
         let (pose, stamp) = self.inbox.lookup(
@@ -49,14 +57,12 @@ impl Ros2Robot {
             return self.send_base(Vector2::zeros(), 0.0);
         }
         let pose = self.pose2()?.value;
-        if let Some((from, to)) = self.expected.take() {
-            let wanted = (to.translation.vector - from.translation.vector).norm();
-            let made = (pose.translation.vector - from.translation.vector).norm();
-            if wanted > JUDGED && made < BLOCKED_SHARE * wanted {
-                self.walk = Walk::Idle(Some(WalkOutcome::Blocked { at: pose }));
-                self.rates = Rates::default();
-                return self.send_base(Vector2::zeros(), 0.0);
-            }
+        if let Some((from, to)) = self.expected.take()
+            && stopped_short(&from, &to, &pose)
+        {
+            self.walk = Walk::Idle(Some(WalkOutcome::Blocked { at: pose }));
+            self.rates = Rates::default();
+            return self.send_base(Vector2::zeros(), 0.0);
         }
         let limits = WalkLimits::of(&self.model.body);
         let next = step_walk(
@@ -139,5 +145,30 @@ impl Base for Ros2Robot {
         }
         self.expected = None;
         self.send_base(Vector2::zeros(), 0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(x: f64, y: f64, yaw: f64) -> Isometry2<f64> {
+        Isometry2::new(Vector2::new(x, y), yaw)
+    }
+
+    #[test]
+    fn a_step_the_base_made_less_than_half_of_was_stopped_short() {
+        // Invariant: a base that made under half its commanded step was blocked; one that made half or more (or overshot, a robot running on) was not; turns on the spot and steps below the judged length are never judged blocked.
+        let from = at(1.0, 1.0, 0.0);
+        let to = at(1.0075, 1.0, 0.0); // 7.5 mm: 50 ms at 0.15 m/s
+        assert!(stopped_short(&from, &to, &at(1.003, 1.0, 0.0)));
+        assert!(stopped_short(&from, &to, &from));
+        assert!(!stopped_short(&from, &to, &at(1.004, 1.0, 0.0)));
+        assert!(!stopped_short(&from, &to, &at(1.02, 1.0, 0.0)));
+        assert!(!stopped_short(&from, &at(1.0, 1.0, 0.3), &from), "a turn");
+        assert!(
+            !stopped_short(&from, &at(1.00005, 1.0, 0.0), &from),
+            "too short to judge"
+        );
     }
 }
