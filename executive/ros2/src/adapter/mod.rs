@@ -84,10 +84,14 @@ pub struct Ros2Robot {
     pressed_since: Option<f64>,
 }
 
-/// The wrist stream's QoS: the sensor profile, its history deep enough for two of the executive's
-/// ticks of samples, which a lock-stepped simulator sends at once after each stretch of time.
+/// Robot time of wrist samples the wrist stream's history holds (s): two of the executive's default
+/// 50 ms ticks, the longest stretch a lock-stepped simulator runs before it sends its samples at once.
+const WRENCH_HISTORY: f64 = 0.1;
+
+/// The wrist stream's QoS: the sensor profile, its history deep enough for [`WRENCH_HISTORY`] of
+/// samples at the wrist's rate.
 pub fn wrench_qos(sensor: crate::config::Qos, model: &RobotModel) -> crate::config::Qos {
-    let tick_samples = (model.wrist.rate_hz * 0.1).ceil() as u32;
+    let tick_samples = (model.wrist.rate_hz * WRENCH_HISTORY).ceil() as u32;
     crate::config::Qos {
         depth: sensor.depth.max(tick_samples),
         ..sensor
