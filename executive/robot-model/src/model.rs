@@ -43,6 +43,9 @@ pub struct BodyModel {
     pub linear_accel: f64,
     /// Angular acceleration of the base (rad/s²): the turning rate is reached in 0.5 s.
     pub angular_accel: f64,
+    /// Distance the base's safety layer keeps from anything in the way (m): a walk stops this short
+    /// of it and ends blocked.
+    pub safety_margin: f64,
 }
 
 impl Default for BodyModel {
@@ -56,6 +59,7 @@ impl Default for BodyModel {
             step_over: 0.03,
             linear_accel: 0.5,
             angular_accel: 1.0,
+            safety_margin: 0.015,
         }
     }
 }

@@ -64,6 +64,11 @@ impl RobotModel {
             b.step_over.is_finite() && b.step_over >= 0.0,
             format!("must be zero or more, got {}", b.step_over),
         )?;
+        check(
+            "body.safety_margin",
+            b.safety_margin.is_finite() && b.safety_margin >= 0.0,
+            format!("must be zero or more, got {}", b.safety_margin),
+        )?;
         let h = &self.head;
         positive("head.height", h.height)?;
         // The body's cylinder starts at the step-over height, and the head sits on the body.

@@ -18,8 +18,6 @@ use head::Head;
 use nudge_executive::robot::controller::{HandMotion as Arm, Rates, Walk};
 use walk::WalkParams;
 
-/// Distance the walking body keeps from obstacles (m).
-pub const SAFETY_MARGIN: f64 = 0.015;
 /// Colour of the robot's parts as the range sensor sees them.
 const ROBOT_COLOUR: [u8; 3] = [230, 230, 235];
 
@@ -169,7 +167,7 @@ impl Humanoid {
                 radius: body_model.radius,
                 height: body_model.height,
                 step_over,
-                margin: SAFETY_MARGIN,
+                margin: body_model.safety_margin,
             },
             head: Head::new(&model.head),
             arm,

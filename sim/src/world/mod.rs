@@ -60,9 +60,10 @@ pub const COARSE_STEP_US: u64 = STEADY_STEP_US;
 pub const NEAR_CONTACT: f32 = 0.01;
 /// How far a contact pair may move before rapier recomputes its contact points (m).
 pub const CONTACT_RECYCLE_DISTANCE: f32 = 0.002;
-/// Tared wrist force (N) at which a walk or turn stops at once: the hand, held out while walking,
-/// presses on something that does not give (three times the paper's 20 N push limit).
-pub const HAND_OVERLOAD: f64 = 60.0;
+/// Tared wrist force at which a walk or turn stops at once, as a multiple of the push test's limit:
+/// the hand, held out while walking, presses on something that does not give (60 N for the paper's
+/// 20 N).
+pub const HAND_OVERLOAD_FACTOR: f64 = 3.0;
 
 /// How the next physics step is taken.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -630,7 +631,8 @@ impl World {
     /// Stops a guarded move the moment the tared force reaches its limit, and a walk when the hand
     /// is overloaded.
     fn check_guard(&mut self, reading: Stamped<Wrench>) {
-        if reading.value.force_norm() >= HAND_OVERLOAD {
+        let overload = HAND_OVERLOAD_FACTOR * self.robot_model().force.test_limit;
+        if reading.value.force_norm() >= overload {
             self.humanoid.protective_stop();
         }
         let Some(limit) = self.humanoid.arm().guard() else {
