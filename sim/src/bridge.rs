@@ -214,6 +214,9 @@ impl SimBridge {
 
     /// Takes the faults due at the time reached, each once.
     fn due(&mut self) -> Vec<BridgeFault> {
+        if self.faults.is_empty() {
+            return Vec::new();
+        }
         let now = self.robot.world().time();
         let (due, later): (Vec<_>, Vec<_>) = self.faults.iter().partition(|f| f.at <= now);
         self.faults = later;

@@ -49,20 +49,13 @@ pub struct RosNode {
 impl RosNode {
     /// A node named `name` in the root namespace of DDS domain `domain_id` (`ROS_DOMAIN_ID`).
     pub fn new(name: &str, domain_id: u16) -> Result<Self, DdsError> {
-        let create = |what: &str| {
-            let what = what.to_string();
-            move |e: &dyn std::fmt::Debug| DdsError::Create {
-                what: what.clone(),
-                reason: format!("{e:?}"),
-            }
-        };
         let context = Context::with_options(ContextOptions::new().domain_id(domain_id))
-            .map_err(|e| create("the DDS participant")(&e))?;
-        let node_name = NodeName::new("/", name).map_err(|e| create("the node name")(&e))?;
+            .map_err(|e| create("the DDS participant", e))?;
+        let node_name = NodeName::new("/", name).map_err(|e| create("the node name", e))?;
         let node = context
             .new_node(node_name, NodeOptions::new().enable_rosout(false))
-            .map_err(|e| create("the node")(&e))?;
-        let poll = Poll::new().map_err(|e| create("the waiter")(&e))?;
+            .map_err(|e| create("the node", e))?;
+        let poll = Poll::new().map_err(|e| create("the waiter", e))?;
         Ok(Self {
             node,
             _context: context,
@@ -80,16 +73,11 @@ impl RosNode {
         let (package, rest) = M::TYPE_NAME
             .split_once("/msg/")
             .unwrap_or(("", M::TYPE_NAME));
-        let ros_name = Name::parse(name.as_str()).map_err(|e| DdsError::Create {
-            what: format!("topic {}", name.as_str()),
-            reason: format!("{e:?}"),
-        })?;
+        let what = format!("topic {}", name.as_str());
+        let ros_name = Name::parse(name.as_str()).map_err(|e| create(&what, e))?;
         self.node
             .create_topic(&ros_name, MessageTypeName::new(package, rest), qos)
-            .map_err(|e| DdsError::Create {
-                what: format!("topic {}", name.as_str()),
-                reason: format!("{e:?}"),
-            })
+            .map_err(|e| create(&what, e))
     }
 
     /// A publisher of `M` on `topic` with `qos`.
@@ -100,13 +88,10 @@ impl RosNode {
     ) -> Result<RosPublisher<M>, DdsError> {
         let profile = profile(qos);
         let t = self.topic::<M>(topic, &profile)?;
-        let inner =
-            self.node
-                .create_publisher(&t, Some(profile))
-                .map_err(|e| DdsError::Create {
-                    what: format!("a publisher on {}", topic.as_str()),
-                    reason: format!("{e:?}"),
-                })?;
+        let inner = self
+            .node
+            .create_publisher(&t, Some(profile))
+            .map_err(|e| create(&format!("a publisher on {}", topic.as_str()), e))?;
         Ok(RosPublisher {
             inner,
             topic: topic.as_str().to_string(),
@@ -124,18 +109,11 @@ impl RosNode {
         let mut inner = self
             .node
             .create_subscription(&t, Some(profile))
-            .map_err(|e| DdsError::Create {
-                what: format!("a subscription to {}", topic.as_str()),
-                reason: format!("{e:?}"),
-            })?;
+            .map_err(|e| create(&format!("a subscription to {}", topic.as_str()), e))?;
         let token = Token(self.next_token);
         self.next_token += 1;
-        Source::register(&mut inner, self.poll.registry(), token, Interest::READABLE).map_err(
-            |e| DdsError::Create {
-                what: format!("a waiter on {}", topic.as_str()),
-                reason: e.to_string(),
-            },
-        )?;
+        Source::register(&mut inner, self.poll.registry(), token, Interest::READABLE)
+            .map_err(|e| create(&format!("a waiter on {}", topic.as_str()), e))?;
         Ok(RosSubscription {
             inner,
             topic: topic.as_str().to_string(),
@@ -146,6 +124,14 @@ impl RosNode {
     pub fn wait(&mut self, timeout: Duration) {
         // A failed poll is a spurious wake-up: every caller takes what is there and waits again.
         let _ = self.poll.poll(&mut self.events, Some(timeout));
+    }
+}
+
+/// The error of something that could not be created, with what DDS said.
+fn create(what: &str, reason: impl std::fmt::Debug) -> DdsError {
+    DdsError::Create {
+        what: what.to_string(),
+        reason: format!("{reason:?}"),
     }
 }
 

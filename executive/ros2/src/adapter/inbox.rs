@@ -2,7 +2,7 @@
 //! wrist's readings and the latest camera frame, each checked as it arrives. A message that cannot
 //! be right (a NaN, a clock that runs backwards) is kept as the fault the next call reports.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 
 use nalgebra::Isometry3;
 use nudge_executive::robot::{RobotError, Stamped, Wrench};
@@ -29,7 +29,7 @@ pub(crate) struct Inbox {
     /// The head's (pan, tilt), stamped.
     pub head: Option<Stamped<(f64, f64)>>,
     /// Raw (untared) wrist readings since the last drain, oldest first.
-    pub wrenches: Vec<Stamped<Wrench>>,
+    pub wrenches: VecDeque<Stamped<Wrench>>,
     /// The latest raw wrist reading.
     pub latest_wrench: Option<Stamped<Wrench>>,
     /// The latest camera frame.
@@ -117,9 +117,9 @@ impl Inbox {
             value: w,
         };
         if self.wrenches.len() >= MAX_KEPT {
-            self.wrenches.remove(0);
+            self.wrenches.pop_front();
         }
-        self.wrenches.push(reading);
+        self.wrenches.push_back(reading);
         self.latest_wrench = Some(reading);
     }
 
