@@ -966,6 +966,7 @@ fn conclude_push_test(
         Finding::Ambiguous(Ambiguity::Tipped { .. }) if attempt < 2 => {
             let lower = PushIntent {
                 hand_height: intent.hand_height / 2.0,
+                clear_height: intent.hand_height / 2.0,
                 ..intent.clone()
             };
             start_push_test(target, &lower, attempt + 1, k, config, Edge::Retest)

@@ -18,8 +18,12 @@ pub struct PushIntent {
     pub target: ObjectId,
     /// Where the base stands, facing the push (map frame).
     pub stand: Isometry2<f64>,
-    /// Hand height above the floor (m): the top of the face the robot pushes.
+    /// Hand height above the floor in the push test (m): low enough that the object slides before
+    /// it tips where its face is solid that low, else just below the top of the face.
     pub hand_height: f64,
+    /// Hand height above the floor in the strokes that clear the way (m): just below the top of the
+    /// face, or where a retest slid an object that tipped.
+    pub clear_height: f64,
     /// Push direction in the map frame.
     pub direction: Unit<Vector2<f64>>,
     /// How far the object should travel when clearing the way (m).

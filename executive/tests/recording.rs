@@ -68,6 +68,7 @@ fn observe(rec: &mut impl Observer) {
         target: ObjectId(3),
         stand: Isometry2::new(Vector2::new(1.0, 1.0), 0.0),
         hand_height: 0.7,
+        clear_height: 0.7,
         direction: Unit::new_normalize(Vector2::new(1.0, 0.0)),
         distance: 0.8,
         opens_way: true,

@@ -29,6 +29,7 @@ fn intent(target: ObjectId) -> PushIntent {
         target,
         stand: Isometry2::new(Vector2::new(3.0, 0.55), 0.0),
         hand_height: 0.45,
+        clear_height: 0.45,
         direction: Unit::new_normalize(Vector2::new(1.0, 0.0)),
         distance: 0.8,
         opens_way: true,
@@ -526,7 +527,7 @@ cases! {
         // Invariant: a first test that stopped at the limit with its force leaning like a face dragged down by the palm (26°, the hand 15 mm on) is retested once, at half the hand height, and is not a static verdict.
         let tipped = PushEvidence { stop_lean: Some(26f64.to_radians()), ..evidence(true, 0.015, 0.004) };
         let s = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(tipped));
-        let lower = PushIntent { hand_height: intent(CHAIR).hand_height / 2.0, ..intent(CHAIR) };
+        let lower = PushIntent { hand_height: intent(CHAIR).hand_height / 2.0, clear_height: intent(CHAIR).hand_height / 2.0, ..intent(CHAIR) };
         assert_eq!(s.state, State::PushTest { target: CHAIR, intent: lower.clone(), attempt: 2 });
         assert_eq!(s.commands, vec![Command::PushTest { intent: lower, attempt: 2 }]);
         assert!(s.knowledge.explanation.verdicts.is_empty());

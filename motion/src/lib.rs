@@ -15,6 +15,7 @@
 
 pub mod blocking;
 pub mod broad_phase;
+pub mod hand_height;
 pub mod obstacle;
 pub mod path;
 pub mod planner;

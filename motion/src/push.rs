@@ -14,6 +14,7 @@ use nudge_perception::{ObjectId, Prism};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::hand_height::{HandHeights, hand_height_on};
 use crate::obstacle::Obstacle;
 use crate::path::Path;
 use crate::planner::rrt_connect::RrtConnect;
@@ -57,6 +58,13 @@ pub struct PushConfig {
     pub min_face: f64,
     /// Half the width of the hand (m): its way to the contact keeps this clear of other obstacles.
     pub hand_half_width: f64,
+    /// Half the height of the hand (m): the band of a face it presses on, and the step in which
+    /// [`hand_height_on`] looks for a solid band.
+    pub hand_half_height: f64,
+    /// Most that furniture's feet grip a floor (μ): rubber on dry tile or concrete reaches about 0.8
+    /// in handbook tables, wood, plastic and metal on floors 0.2–0.6. It bounds the height at which
+    /// a push slides what it could otherwise tip (see [`crate::hand_height`]).
+    pub max_floor_friction: f64,
     /// Least gap (m) the object's sweep keeps from every other obstacle. A real object turns a little
     /// as it slides and its footprint is known to a few centimetres: a sweep that grazes a corner
     /// (a wall's end beside a doorway) catches on it and jams or swings into the way.
@@ -103,6 +111,8 @@ impl PushConfig {
             face_band: 0.05,
             min_face: 0.1,
             hand_half_width: arm.hand_half[1],
+            hand_half_height: arm.hand_half[2],
+            max_floor_friction: 0.8,
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),
@@ -140,8 +150,13 @@ pub struct PushPlan {
     pub object: ObjectId,
     /// Where the robot stands before pushing, facing the push direction (map frame).
     pub stand_pose: Isometry2<f64>,
-    /// Height of the hand above the floor (m): just below the top of the surface facing the robot.
+    /// Height of the hand above the floor in the push test (m): where the face is solid, low enough
+    /// that the object slides before it tips, else just below the top of the surface facing the
+    /// robot ([`crate::hand_height`]).
     pub hand_height: f64,
+    /// Height of the hand above the floor in the strokes that clear the way (m): just below the top
+    /// of the surface facing the robot, as the paper pushes.
+    pub clear_height: f64,
     /// Direction of the push in the map frame.
     pub direction: Unit<Vector2<f64>>,
     /// How far to push (m).
@@ -200,7 +215,7 @@ struct Stance {
     direction: Unit<Vector2<f64>>,
     stand: Point2<f64>,
     contact: Point2<f64>,
-    hand_height: f64,
+    heights: HandHeights,
 }
 
 /// What every push of one object is checked against: the object, the other obstacles its sweep
@@ -394,10 +409,11 @@ fn plan_of(
     Some(PushPlan {
         object: id,
         stand_pose: pose(s.stand.x, s.stand.y, s.direction.y.atan2(s.direction.x)),
-        hand_height: s.hand_height,
+        hand_height: s.heights.test,
+        clear_height: s.heights.clear,
         direction: s.direction,
         distance: c.distance,
-        contact_point: Point3::new(s.contact.x, s.contact.y, s.hand_height),
+        contact_point: Point3::new(s.contact.x, s.contact.y, s.heights.test),
         displaced_footprint: c.displaced,
         opens_path: c.path_after.is_some(),
         path_after: c.path_after,
@@ -521,14 +537,14 @@ fn tilted_stances(
     (stances, unseen)
 }
 
-/// A face of the footprint: its ends, inward push direction and the hand height on it.
+/// A face of the footprint: its ends, inward push direction and the hand's heights on it.
 #[derive(Clone, Debug)]
 struct Face {
     object: ObjectId,
     a: Point2<f64>,
     b: Point2<f64>,
     direction: Unit<Vector2<f64>>,
-    hand_height: f64,
+    heights: HandHeights,
 }
 
 fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<Face> {
@@ -542,7 +558,7 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
         let edge = b - a;
         // Counter-clockwise footprint: the outward normal is the edge turned clockwise.
         let outward = Unit::new_normalize(Vector2::new(edge.y, -edge.x));
-        let Some(hand_height) = hand_height_on(&a, &b, &outward, object, prism, config) else {
+        let Some(heights) = hand_height_on(&a, &b, &outward, object, prism, config) else {
             continue;
         };
         let face = Face {
@@ -550,7 +566,7 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
             a,
             b,
             direction: Unit::new_unchecked(-outward.into_inner()),
-            hand_height,
+            heights,
         };
         // Nearly parallel faces (a hull of noisy points) are one direction: keep the longest. A short
         // edge beside a face (a hull's corner cut a cell deep) leans off it by up to the angle a
@@ -607,34 +623,6 @@ fn face_from(f: &[Point2<f64>], i: usize, min_face: f64) -> Option<(Point2<f64>,
     None
 }
 
-/// The top of the surface facing the robot, from the points near the face (else the prism's top),
-/// less a margin, clamped into the hand's reach; `None` when the surface is out of reach.
-fn hand_height_on(
-    a: &Point2<f64>,
-    b: &Point2<f64>,
-    outward: &Unit<Vector2<f64>>,
-    object: &Obstacle,
-    prism: &Prism,
-    config: &PushConfig,
-) -> Option<f64> {
-    let edge = b - a;
-    let len2 = edge.norm_squared();
-    let near_face = prism.points.iter_valid().filter_map(|(_, p, _)| {
-        let q = Point2::new(f64::from(p.x), f64::from(p.y));
-        let depth = -(q - a).dot(outward);
-        let t = (q - a).dot(&edge) / len2;
-        (depth.abs() <= config.face_band && (-0.05..=1.05).contains(&t)).then_some(f64::from(p.z))
-    });
-    let top = near_face
-        .fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
-        .unwrap_or(object.z_max())
-        .min(object.z_max());
-    let (low, high) = config.reach_z;
-    let bottom = object.z_min().max(low);
-    let h = (top - config.hand_below_top).min(high);
-    (h >= bottom).then_some(h)
-}
-
 /// The first free stand pose in front of `face` with the hand within reach, on seen floor when
 /// `floor` is given ([`Miss::Unseen`] when free ones exist only on unseen floor).
 fn stance_for(
@@ -673,7 +661,7 @@ fn stance_for(
                     direction: face.direction,
                     stand,
                     contact,
-                    hand_height: face.hand_height,
+                    heights: face.heights,
                 });
             }
         }
@@ -682,7 +670,7 @@ fn stance_for(
 }
 
 /// Whether the hand's way from the body to `contact` (along the push, from its nearest reach) keeps
-/// clear of every other obstacle at the hand's height: a hand reaching past a table's leg to the
+/// clear of every other obstacle at the hand's heights: a hand reaching past a table's leg to the
 /// table's far face, or past one object to the next, would strike the first before any guard.
 fn hand_line_clear(
     face: &Face,
@@ -699,7 +687,12 @@ fn hand_line_clear(
         .obstacles()
         .iter()
         .filter(|o| o.id() != face.object)
-        .filter(|o| o.z_min() <= face.hand_height && face.hand_height <= o.z_max())
+        .filter(|o| {
+            let h = face.heights;
+            [h.test, h.clear]
+                .iter()
+                .any(|z| o.z_min() <= *z && *z <= o.z_max())
+        })
         .all(|o| o.distance_to_segment(&from, &to) > config.hand_half_width)
 }
 
@@ -931,10 +924,11 @@ pub fn plan_of_swept(
     Some(PushPlan {
         object: push.object,
         stand_pose: pose(s.stand.x, s.stand.y, s.direction.y.atan2(s.direction.x)),
-        hand_height: s.hand_height,
+        hand_height: s.heights.test,
+        clear_height: s.heights.clear,
         direction: s.direction,
         distance: push.distance,
-        contact_point: Point3::new(s.contact.x, s.contact.y, s.hand_height),
+        contact_point: Point3::new(s.contact.x, s.contact.y, s.heights.test),
         displaced_footprint: prism.footprint.iter().map(|p| p + offset).collect(),
         opens_path: false,
         path_after: None,
@@ -1045,7 +1039,7 @@ mod tests {
             faces
                 .iter()
                 .find(|f| f.direction.into_inner().dot(&dir) > 0.99)
-                .map(|f| f.hand_height)
+                .map(|f| f.heights.clear)
                 .expect("a face for this direction")
         };
         // Robot behind the backrest (at x > 0.5) pushes toward -x: backrest top 0.85.
@@ -1058,7 +1052,7 @@ mod tests {
             ..prism
         };
         let faces = pushable_faces(&obstacle, &bare, &config);
-        assert!(faces.iter().all(|f| (f.hand_height - 0.80).abs() < 1e-6));
+        assert!(faces.iter().all(|f| (f.heights.clear - 0.80).abs() < 1e-6));
     }
 
     #[test]

@@ -152,7 +152,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let long = intent.distance > TRACKED_STROKES * full_stroke;
         let mut tracked = match self.prism(intent.target).cloned().filter(|_| long) {
             Some(prism) => {
-                let before = self.object_points(&prism, Vector2::zeros())?;
+                let before = self.object_points(&prism, Vector2::zeros(), None)?;
                 Some(Tracked {
                     prism,
                     before,
@@ -221,7 +221,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             } else {
                 Approach::GuardedLast(motion.approach_gap)
             };
-            let stroke = self.stroke(from_x, to_x, y, intent.hand_height, limit, approach)?;
+            let stroke = self.stroke(from_x, to_x, y, intent.clear_height, limit, approach)?;
             peak = peak.max(stroke.peak_force);
             self.retract()?;
             if let HandOutcome::ForceLimit { .. } = stroke.outcome {
@@ -286,7 +286,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let expected = t.slid(direction * travel);
         // Looked for where the hand's travel puts it, turned as it was last measured.
         let there = t.prism.transformed(&floor_motion(&expected));
-        let after = self.object_points(&there, Vector2::zeros())?;
+        let after = self.object_points(&there, Vector2::zeros(), None)?;
         let classifier = &self.config.executive.classifier;
         let (motion, source) = match icp_pose(&t.before, &after, &expected) {
             Some((reading, motion))

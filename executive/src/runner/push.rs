@@ -206,6 +206,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     target,
                     stand: plan.stand_pose,
                     hand_height: plan.hand_height,
+                    clear_height: plan.clear_height,
                     direction: plan.direction,
                     distance: plan.distance,
                     opens_way: plan.opens_path,
@@ -289,8 +290,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     fn run_push_test(&mut self, intent: &PushIntent) -> Result<PushEvidence, Interrupt> {
         let motion = self.config.push_motion.clone();
         let prism = self.prism(intent.target).cloned();
+        let hand_z = Some(intent.hand_height);
         let view = match &prism {
-            Some(p) => Some(self.look_at_object(p, Vector2::zeros())?),
+            Some(p) => Some(self.look_at_object(p, Vector2::zeros(), hand_z)?),
             None => None,
         };
         let before = match (&prism, &view) {
@@ -376,7 +378,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let icp = match (&prism, before) {
             (Some(p), Some(before)) => {
                 let shift = direction * stroke.travel_after_contact;
-                let after = self.object_points(p, shift)?;
+                let after = self.object_points(p, shift, hand_z)?;
                 let reading = icp_reading(&before, &after, shift);
                 let classifier = &self.config.executive.classifier;
                 // Whatever the finding, a trusted motion reading is where the object is now: a retest
@@ -549,13 +551,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         trace.push((sample.stamp, sample.value.force_norm()));
     }
 
-    /// Looks at `prism` (moved by `shift`) and returns its points in the map frame.
+    /// Looks at `prism` (moved by `shift`) with the hand's line at `hand_z`, where given, in view (see
+    /// [`Self::look_at_object`]) and returns its points in the map frame.
     pub(super) fn object_points(
         &mut self,
         prism: &Prism,
         shift: Vector2<f64>,
+        hand_z: Option<f64>,
     ) -> Result<ColourCloud, Interrupt> {
-        let view = self.look_at_object(prism, shift)?;
+        let view = self.look_at_object(prism, shift, hand_z)?;
         Ok(crop(
             &view,
             prism,
@@ -564,11 +568,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         ))
     }
 
-    /// Looks at `prism` (moved by `shift`) and returns the whole view in the map frame.
+    /// Points the head at `prism` (moved by `shift`) and captures: aimed at its middle, but tilted no
+    /// further down than keeps the top of its nearest face in view, unless that leaves the hand's
+    /// line at height `hand_z`, where given, on that face below the view: then just far enough
+    /// down to show it.
+    /// The stroke's way to the face is judged from this look. Returns the whole view in the map
+    /// frame.
     pub(super) fn look_at_object(
         &mut self,
         prism: &Prism,
         shift: Vector2<f64>,
+        hand_z: Option<f64>,
     ) -> Result<ColourCloud, Interrupt> {
         let base = self.robot.base_pose()?.value;
         let centre = prism
@@ -582,18 +592,22 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let aim_z = 0.5 * (prism.z_min + prism.z_max);
         let eye = self.config.model.head.height;
         let at_middle = (eye - aim_z).atan2(rel.norm().max(0.1));
-        // Tilted no further down than keeps the top of the nearest face in view: the hand pushes just
-        // below it, and the stroke's way there is judged from this look.
         let nearest = prism
             .footprint
             .iter()
             .map(|p| (p.coords + shift - base.translation.vector).norm())
             .fold(f64::INFINITY, f64::min)
             .max(0.1);
-        let top_in_view = (eye - prism.z_max).atan2(nearest)
-            + self.config.model.camera.v_fov() / 2.0
-            - TOP_IN_VIEW_MARGIN;
+        let half_view = self.config.model.camera.v_fov() / 2.0;
+        let top_in_view = (eye - prism.z_max).atan2(nearest) + half_view - VIEW_EDGE_MARGIN;
         let tilt = at_middle.min(top_in_view);
+        let tilt = match hand_z {
+            Some(z) => {
+                let line = (eye - z.min(prism.z_max)).atan2(nearest);
+                tilt.max(line - half_view + VIEW_EDGE_MARGIN)
+            }
+            None => tilt,
+        };
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;
         let cloud = self.robot.capture()?;
@@ -680,9 +694,9 @@ fn face_on_line(
         .min_by(f64::total_cmp)
 }
 
-/// How far inside the field of view's upper edge (rad) a look at an object keeps the top of its
-/// nearest face: the head's pointing error and a row or two of pixels.
-const TOP_IN_VIEW_MARGIN: f64 = 0.035;
+/// How far inside the field of view's edges (rad) a look at an object keeps the band of its nearest
+/// face the hand pushes on: the head's pointing error and a row or two of pixels.
+const VIEW_EDGE_MARGIN: f64 = 0.035;
 
 /// Sideways margin (m) added to the hand's half width when looking for what lies on its way: the
 /// range noise (about a centimetre) and a little more.

@@ -240,6 +240,7 @@ mod tests {
             target,
             stand: Isometry2::translation(3.0, 0.55),
             hand_height: 0.6,
+            clear_height: 0.6,
             direction: Unit::new_normalize(Vector2::x()),
             distance: 0.8,
             opens_way: true,
