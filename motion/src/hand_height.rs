@@ -26,7 +26,8 @@ pub const SOLID_COVER: f64 = 0.5;
 /// Where the hand pushes on one face (m above the floor).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HandHeights {
-    /// In the push test: below tipping where the face is solid that low, else the paper's height.
+    /// In the push test: below tipping where the face is solid that low (when
+    /// [`PushConfig::test_below_tipping`]), else the paper's height.
     pub test: f64,
     /// In the strokes that clear the way: the paper's height, just below the face's top. (Boxes
     /// cleared low ended turned across a doorway in 2 of 720 batch runs; an object that tipped
@@ -58,7 +59,7 @@ pub fn hand_height_on(
     }
     let safe = depth_along(object.footprint(), a, outward) / (2.0 * config.max_floor_friction);
     let heights = |test| HandHeights { test, clear: paper };
-    if paper <= safe {
+    if !config.test_below_tipping || paper <= safe {
         return Some(heights(paper));
     }
     let step = config.hand_half_height;
@@ -202,7 +203,10 @@ mod tests {
             &outward,
             &object,
             prism,
-            &PushConfig::default(),
+            &PushConfig {
+                test_below_tipping: true,
+                ..PushConfig::default()
+            },
         )
         .map(|h| h.test)
     }
@@ -217,6 +221,23 @@ mod tests {
         assert!(
             h >= PushConfig::default().reach_z.0,
             "pushed at {h} m, below the reach"
+        );
+    }
+
+    #[test]
+    fn by_default_a_tall_box_is_pushed_just_below_its_top() {
+        // Invariant: without `test_below_tipping` the push test keeps the paper's height.
+        let prism = prism_with_face((3.0, 3.6), (0.4, 1.0), 0.7, |_, _| true);
+        let object = Obstacle::from_prism(&prism).expect("a valid prism");
+        let f = &prism.footprint;
+        let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
+        let config = PushConfig::default();
+        let h = hand_height_on(&f[3], &f[0], &outward, &object, &prism, &config)
+            .expect("a face within reach");
+        assert!((h.test - h.clear).abs() < 1e-12, "{h:?}");
+        assert!(
+            (h.test - (0.7 - config.hand_below_top)).abs() < 0.021,
+            "{h:?}"
         );
     }
 

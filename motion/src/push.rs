@@ -65,6 +65,14 @@ pub struct PushConfig {
     /// in handbook tables, wood, plastic and metal on floors 0.2–0.6. It bounds the height at which
     /// a push slides what it could otherwise tip (see [`crate::hand_height`]).
     pub max_floor_friction: f64,
+    /// Whether a push test's hand goes no higher than slides what could otherwise tip, where the
+    /// face is solid that low ([`crate::hand_height`]); else it pushes at the paper's height, just
+    /// below the face's top, as clearing strokes always do. Off by default: it sets every verdict
+    /// of the push-test sweep right with every movable peak under its midpoint, but in the batch
+    /// the 4 kg box of `hidden-behind-sideboard` (which tips at 15.1 N at the paper's height and
+    /// slides at 15.7 N) ended turned across the way after its clearing in 3 of 75 seeds against 1,
+    /// and 2 of 720 shipped runs failed that pass today (BENCHMARKS.md, "Push test sweep").
+    pub test_below_tipping: bool,
     /// Least gap (m) the object's sweep keeps from every other obstacle. A real object turns a little
     /// as it slides and its footprint is known to a few centimetres: a sweep that grazes a corner
     /// (a wall's end beside a doorway) catches on it and jams or swings into the way.
@@ -113,6 +121,7 @@ impl PushConfig {
             hand_half_width: arm.hand_half[1],
             hand_half_height: arm.hand_half[2],
             max_floor_friction: 0.8,
+            test_below_tipping: false,
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),

@@ -7,7 +7,13 @@
 //!
 //! ```text
 //! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3
+//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --below-tipping
 //! ```
+//!
+//! `--below-tipping` runs the executive with [`PushConfig::test_below_tipping`] on: each test's hand
+//! no higher than slides what could otherwise tip, where the face is solid that low.
+//!
+//! [`PushConfig::test_below_tipping`]: nudge_motion::PushConfig::test_below_tipping
 //!
 //! It exits non-zero when a scored verdict is wrong or a movable box's peak is at or over the
 //! midpoint.
@@ -15,9 +21,11 @@
 use std::process::ExitCode;
 
 use clap::Parser;
+use nudge_executive::Runner;
 use nudge_executive::record::NullObserver;
 use nudge_executive::{CandidatePolicy, Verdict};
-use nudge_sim::run::run;
+use nudge_sim::adapter::SimRobot;
+use nudge_sim::run::run_config;
 use nudge_sim::scenario::{GRAVITY, Scenario};
 use nudge_sim::truth::MOVABLE_MARGIN;
 
@@ -28,6 +36,9 @@ struct Options {
     /// Noise seeds per box.
     #[arg(long, default_value_t = 3)]
     seeds: u64,
+    /// Push-test the boxes below tipping (`PushConfig::test_below_tipping`).
+    #[arg(long)]
+    below_tipping: bool,
 }
 
 /// Box masses tried (kg).
@@ -91,14 +102,16 @@ fn main() -> ExitCode {
                 }
             };
             for seed in 1..=options.seeds {
-                let (report, _, _) =
-                    match run(&scenario, seed, CandidatePolicy::Nearest, NullObserver) {
-                        Ok(r) => r,
-                        Err(e) => {
-                            eprintln!("push_test_sweep: {e}");
-                            return ExitCode::FAILURE;
-                        }
-                    };
+                let robot = match SimRobot::new(&scenario, seed) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        eprintln!("push_test_sweep: {e}");
+                        return ExitCode::FAILURE;
+                    }
+                };
+                let mut config = run_config(&scenario, seed, CandidatePolicy::Nearest);
+                config.push.test_below_tipping = options.below_tipping;
+                let report = Runner::new(robot, NullObserver, config).run();
                 let midpoint = (slide + limit) / 2.0;
                 let Some(test) = report.knowledge.explanation.tests.first() else {
                     println!(

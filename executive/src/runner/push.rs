@@ -290,7 +290,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     fn run_push_test(&mut self, intent: &PushIntent) -> Result<PushEvidence, Interrupt> {
         let motion = self.config.push_motion.clone();
         let prism = self.prism(intent.target).cloned();
-        let hand_z = Some(intent.hand_height);
+        // Only a line lowered below the face's top band has to be brought into view.
+        let hand_z = (intent.hand_height < intent.clear_height).then_some(intent.hand_height);
         let view = match &prism {
             Some(p) => Some(self.look_at_object(p, Vector2::zeros(), hand_z)?),
             None => None,
