@@ -29,9 +29,9 @@ pub struct HandHeights {
     /// In the push test: below tipping where the face is solid that low (when
     /// [`PushConfig::test_below_tipping`]), else the paper's height.
     pub test: f64,
-    /// In the strokes that clear the way: the paper's height, just below the face's top. (Boxes
-    /// cleared low ended turned across a doorway in 2 of 720 batch runs; an object that tipped
-    /// under a test is cleared at the height its retest slid it.)
+    /// In the strokes that clear the way: the paper's height, just below the face's top (clearing
+    /// low as well saved none of the runs the option loses: BENCHMARKS.md, "Push test sweep"). An
+    /// object that tipped under a test is cleared at the height its retest slid it.
     pub clear: f64,
 }
 
@@ -49,8 +49,11 @@ pub fn hand_height_on(
     prism: &Prism,
     config: &PushConfig,
 ) -> Option<HandHeights> {
-    let face = FacePoints::near(a, b, outward, prism, config);
-    let top = face.top().unwrap_or(object.z_max()).min(object.z_max());
+    let top = near_face(a, b, outward, prism, config)
+        .map(|(_, z)| z)
+        .fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
+        .unwrap_or(object.z_max())
+        .min(object.z_max());
     let (low, high) = config.reach_z;
     let bottom = object.z_min().max(low);
     let paper = (top - config.hand_below_top).min(high);
@@ -62,6 +65,9 @@ pub fn hand_height_on(
     if !config.test_below_tipping || paper <= safe {
         return Some(heights(paper));
     }
+    // Only a face that may be pushed lower is cut into slots: planning asks every face of every
+    // candidate, and most never get here.
+    let face = FacePoints::near(a, b, outward, prism, config);
     let step = config.hand_half_height;
     // The middle half of the hand on the surface: a thin edge (a chair's seat) caught by the
     // hand's rim turns the push into a lift.
@@ -94,9 +100,29 @@ struct FacePoints {
     slots: usize,
 }
 
+/// The points of `prism` within the face band of the face from `a` to `b`: where along the face
+/// (0 at `a`, 1 at `b`) and how high.
+fn near_face<'a>(
+    a: &'a Point2<f64>,
+    b: &'a Point2<f64>,
+    outward: &'a Unit<Vector2<f64>>,
+    prism: &'a Prism,
+    config: &'a PushConfig,
+) -> impl Iterator<Item = (f64, f64)> + 'a {
+    let edge = b - a;
+    let len2 = edge.norm_squared();
+    prism.points.iter_valid().filter_map(move |(_, p, _)| {
+        let q = Point2::new(f64::from(p.x), f64::from(p.y));
+        let depth = -(q - a).dot(outward);
+        let t = (q - a).dot(&edge) / len2;
+        (depth.abs() <= config.face_band && (-0.05..=1.05).contains(&t))
+            .then_some((t, f64::from(p.z)))
+    })
+}
+
 impl FacePoints {
-    /// The points of `prism` within the face band of the face from `a` to `b`, the face cut into
-    /// slots of the footprint's cell (the finest width perception resolves).
+    /// The points near the face from `a` to `b` ([`near_face`]), the face cut into slots of the
+    /// footprint's cell (the finest width perception resolves).
     fn near(
         a: &Point2<f64>,
         b: &Point2<f64>,
@@ -104,31 +130,14 @@ impl FacePoints {
         prism: &Prism,
         config: &PushConfig,
     ) -> Self {
-        let edge = b - a;
-        let len = edge.norm();
-        let slots = ((len / config.footprint_cell).ceil() as usize).max(1);
-        let points = prism
-            .points
-            .iter_valid()
-            .filter_map(|(_, p, _)| {
-                let q = Point2::new(f64::from(p.x), f64::from(p.y));
-                let depth = -(q - a).dot(outward);
-                let t = (q - a).dot(&edge) / (len * len);
-                (depth.abs() <= config.face_band && (-0.05..=1.05).contains(&t)).then(|| {
-                    let slot = (t.clamp(0.0, 1.0) * slots as f64) as usize;
-                    (slot.min(slots - 1), f64::from(p.z))
-                })
+        let slots = (((b - a).norm() / config.footprint_cell).ceil() as usize).max(1);
+        let points = near_face(a, b, outward, prism, config)
+            .map(|(t, z)| {
+                let slot = (t.clamp(0.0, 1.0) * slots as f64) as usize;
+                (slot.min(slots - 1), z)
             })
             .collect();
         Self { points, slots }
-    }
-
-    /// The highest point's height.
-    fn top(&self) -> Option<f64> {
-        self.points
-            .iter()
-            .map(|(_, z)| *z)
-            .fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
     }
 
     /// Share of the slots any point shows that points within `half` of height `h` cover.

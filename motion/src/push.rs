@@ -69,8 +69,8 @@ pub struct PushConfig {
     /// face is solid that low ([`crate::hand_height`]); else it pushes at the paper's height, just
     /// below the face's top, as clearing strokes always do. Off by default: it sets every verdict
     /// of the push-test sweep right with every movable peak under its midpoint, but in the batch
-    /// the 4 kg box of `hidden-behind-sideboard` (which tips at 15.1 N at the paper's height and
-    /// slides at 15.7 N) ended turned across the way after its clearing in 3 of 75 seeds against 1,
+    /// the 4 kg box of `hidden-behind-sideboard` (which tips at m g d / 2h = 15.1 N at the paper's
+    /// height and slides at 15.7 N) ended turned across the way after its clearing in 3 of 75 seeds against 1,
     /// and 2 of 720 shipped runs failed that pass today (BENCHMARKS.md, "Push test sweep").
     pub test_below_tipping: bool,
     /// Least gap (m) the object's sweep keeps from every other obstacle. A real object turns a little
