@@ -365,6 +365,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let Some(grid) = self.world.grid.as_mut() else {
             return;
         };
+        // Floor is floor however steeply the camera looked: seen in a cell, nothing stood on that
+        // spot (see `WorldModel::floor_seen_since`).
+        self.world.memory.saw_floor(
+            grid.geometry(),
+            cloud,
+            self.config.grid.reduction.floor_band,
+            self.robot.elapsed(),
+        );
         let forward = cloud.sensor_pose().rotation * nalgebra::Vector3::x();
         let tilt = (-forward.z).clamp(-1.0, 1.0).asin();
         if tilt > self.config.grid.max_tilt {

@@ -264,7 +264,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// there for the planner; any obstacle nobody tested, moved or
     /// found static, taller than the height below which the grid's free cells prove nothing, is
     /// forgotten as soon as the grid holds every cell under it free (a later frame saw floor all
-    /// over where it stood).
+    /// over where it stood); a lower one as soon as, besides, frames since the look that last
+    /// showed it saw floor returns in at least half of its cells (the smear of a suitcase pulled
+    /// past, or of a person's legs, that no later look came back to).
     pub(crate) fn reconcile(&mut self) {
         let now = self.robot.elapsed();
         let memory = self.config.grid.mover_memory;
@@ -303,7 +305,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .filter(|p| {
                 stale(&p.id)
                     || looked_gone(p)
-                    || (untouched(p) && p.z_max > proves_free_above && self.world.grid_sees_free(p))
+                    || (untouched(p) && self.world.grid_sees_free(p) && {
+                        // The grid's Free cells prove nothing below the lowest ray's clearing
+                        // height: a lower obstacle goes once frames have also seen the floor it
+                        // stood on bare since a look last showed it.
+                        p.z_max > proves_free_above || {
+                            let since = self.world.last_detected.get(&p.id);
+                            self.world
+                                .floor_seen_since(p, since.copied().unwrap_or(f64::NEG_INFINITY))
+                        }
+                    })
             })
             .map(|p| p.id)
             .collect();

@@ -119,6 +119,23 @@ impl WorldModel {
             && !cells.iter().any(|c| after(grid.last_hit(*c)))
     }
 
+    /// Whether floor was seen, after `since` (robot time let pass), in at least half of the grid
+    /// cells `prism`'s footprint overlaps. An object still standing there hides the floor under it,
+    /// its rim's cells aside; a smear of something that passed does not.
+    pub(super) fn floor_seen_since(&self, prism: &Prism, since: f64) -> bool {
+        let Some(grid) = &self.grid else {
+            return false;
+        };
+        let geometry = grid.geometry();
+        let cells = self.cells_overlapped(prism);
+        let bare = cells
+            .iter()
+            .filter_map(|c| geometry.index(*c))
+            .filter(|&i| self.memory.floor_seen.get(i).is_some_and(|&t| t > since))
+            .count();
+        !cells.is_empty() && 2 * bare >= cells.len()
+    }
+
     /// The share of the grid cells whose centres `prism`'s footprint holds that the grid holds Free
     /// (0 without a grid or such cells): floor it saw through or on before, where the obstacle now
     /// stands.
@@ -163,7 +180,9 @@ mod tests {
     use super::*;
     use crate::runner::unseen::SeenMemory;
     use crate::runner::world::tests::{config_to, floor, prism};
+    use nalgebra::{Isometry3, Point3};
     use nudge_perception::grid::{GridGeometry, ObstacleGrid};
+    use nudge_perception::{CloudFrame, ColourCloud};
 
     /// A run's configuration and an empty grid of 5 cm cells over a 4 m × 2 m room.
     fn room_4_by_2() -> (crate::runner::config::RunConfig, GridGeometry, ObstacleGrid) {
@@ -305,5 +324,77 @@ mod tests {
             !WorldModel::default().grid_saw_it_gone(&person, 1.5),
             "no grid"
         );
+    }
+
+    #[test]
+    fn floor_seen_bare_under_an_obstacle_after_the_look_that_showed_it_proves_it_gone() {
+        // Invariant: an obstacle's floor counts as seen bare after a moment only when frames after that moment put floor returns in at least half of the cells it overlaps: floor seen before it, or all around it but not under it (what an object still standing there leaves), does not count, nor do returns above the floor band.
+        let (_, geometry, grid) = room_4_by_2();
+        let mut world = WorldModel {
+            memory: SeenMemory::new(geometry.len()),
+            grid: Some(grid),
+            ..WorldModel::default()
+        };
+        let low = prism(1, 2.0, 0.5, 2.3, 0.8);
+        let band = 0.05;
+        let around = floor(1.5, 0.2, 2.8, 1.2);
+        let mut around_only = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        for (_, p, rgb) in around.iter_valid() {
+            let q = Point2::new(f64::from(p.x), f64::from(p.y));
+            if low.distance_xy(&q) > 0.06 {
+                around_only.push(p, rgb);
+            }
+        }
+        world.memory.saw_floor(&geometry, &around_only, band, 5.0);
+        assert!(
+            !world.floor_seen_since(&low, 4.0),
+            "the object hid its floor"
+        );
+        let mut raised = ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0);
+        for (_, p, rgb) in around.iter_valid() {
+            raised.push(Point3::new(p.x, p.y, 0.3), rgb);
+        }
+        world.memory.saw_floor(&geometry, &raised, band, 6.0);
+        assert!(
+            !world.floor_seen_since(&low, 4.0),
+            "returns 0.3 m up are no floor"
+        );
+        world.memory.saw_floor(&geometry, &around, band, 7.0);
+        assert!(
+            world.floor_seen_since(&low, 6.5),
+            "floor seen under it at 7 s"
+        );
+        assert!(!world.floor_seen_since(&low, 7.0), "not after 7 s");
+    }
+
+    #[test]
+    fn floor_in_a_sensor_frame_cloud_is_found_in_the_map() {
+        // Invariant: a cloud in the sensor frame lands its floor in the map cells under it: returns 1.2 m below a sensor 1.2 m up are floor, returns 0.5 m below it are not.
+        let (_, geometry, grid) = room_4_by_2();
+        let mut world = WorldModel {
+            memory: SeenMemory::new(geometry.len()),
+            grid: Some(grid),
+            ..WorldModel::default()
+        };
+        let pose = Isometry3::translation(2.0, 1.0, 1.2);
+        let mut cloud = ColourCloud::empty(CloudFrame::Sensor, pose, 0.0);
+        for i in 0..20 {
+            for j in 0..20 {
+                let (x, y) = (
+                    -0.2 + 0.02 * f32::from(i as u8),
+                    -0.2 + 0.02 * f32::from(j as u8),
+                );
+                cloud.push(Point3::new(x, y, -0.5), [100, 100, 100]);
+            }
+        }
+        let object = prism(1, 1.85, 0.85, 2.15, 1.15);
+        world.memory.saw_floor(&geometry, &cloud, 0.05, 1.0);
+        assert!(!world.floor_seen_since(&object, 0.0));
+        let mut floor_cloud = ColourCloud::empty(CloudFrame::Sensor, pose, 0.0);
+        for (_, p, rgb) in cloud.iter_valid() {
+            floor_cloud.push(Point3::new(p.x, p.y, -1.2), rgb);
+        }
+        world.memory.saw_floor(&geometry, &floor_cloud, 0.05, 2.0);
+        assert!(world.floor_seen_since(&object, 1.5));
     }
 }

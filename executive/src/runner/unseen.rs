@@ -30,6 +30,11 @@ pub(crate) struct SeenMemory {
     pub seen: Vec<u64>,
     /// Per cell: looks predicted to show it that did not.
     pub failed_looks: Vec<u8>,
+    /// Per cell, when a frame's floor returns last landed in it, as robot time let pass
+    /// ([`super::watchdog::Watchdog::elapsed`], NaN: never). Floor seen in a cell proves that
+    /// nothing stood on that spot then, at any height: what the grid's Free cells cannot prove below
+    /// the lowest ray's clearing height (see `ColumnReduction::clear_height`).
+    pub floor_seen: Vec<f64>,
 }
 
 impl SeenMemory {
@@ -38,6 +43,7 @@ impl SeenMemory {
         Self {
             seen: vec![0; n.div_ceil(64)],
             failed_looks: vec![0; n],
+            floor_seen: vec![f64::NAN; n],
         }
     }
 
@@ -48,27 +54,56 @@ impl SeenMemory {
 
     /// Marks the cells holding `points` (map frame) as seen.
     pub fn saw(&mut self, geometry: &GridGeometry, points: &ColourCloud) {
-        // A look holds some 10⁵ floor points: cells by one multiplication per coordinate, and a
-        // run of points in one cell (neighbouring pixels) marks it once.
-        let (o, inv) = (geometry.origin(), 1.0 / geometry.resolution());
-        let (w, h) = (geometry.width() as i64, geometry.height() as i64);
+        // A look holds some 10⁵ floor points: a run of points in one cell (neighbouring pixels)
+        // marks it once.
+        let cells = CellLookup::new(geometry);
         let mut last = usize::MAX;
         for (x, y) in points.xs().iter().zip(points.ys()) {
-            if !(x.is_finite() && y.is_finite()) {
-                continue;
-            }
-            let (fx, fy) = ((f64::from(*x) - o.x) * inv, (f64::from(*y) - o.y) * inv);
-            // Off the grid's low edges first: above them, truncation is the floor.
-            if fx < 0.0 || fy < 0.0 {
-                continue;
-            }
-            let (cx, cy) = (fx as i64, fy as i64);
-            if cx >= w || cy >= h {
-                continue;
-            }
-            let i = (cy * w + cx) as usize;
-            if i != last {
+            if let Some(i) = cells.index(*x, *y)
+                && i != last
+            {
                 self.mark(i);
+                last = i;
+            }
+        }
+    }
+
+    /// Notes `now` (robot time let pass) as when floor was last seen in the cells holding the
+    /// points of `cloud` lower than `floor_band` above the map's floor (z = 0): the grid's own test
+    /// for floor (`ColumnReduction::floor_band`).
+    pub fn saw_floor(
+        &mut self,
+        geometry: &GridGeometry,
+        cloud: &ColourCloud,
+        floor_band: f64,
+        now: f64,
+    ) {
+        let pose = cloud.sensor_pose().cast::<f32>();
+        // A rotation matrix rather than the quaternion: this runs over every pixel of every frame.
+        let (rot, shift) = match cloud.frame() {
+            nudge_perception::CloudFrame::Sensor => (
+                pose.rotation.to_rotation_matrix().into_inner(),
+                pose.translation.vector,
+            ),
+            nudge_perception::CloudFrame::Map => {
+                (nalgebra::Matrix3::identity(), nalgebra::Vector3::zeros())
+            }
+        };
+        let cells = CellLookup::new(geometry);
+        let band = floor_band as f32;
+        let mut last = usize::MAX;
+        for ((x, y), z) in cloud.xs().iter().zip(cloud.ys()).zip(cloud.zs()) {
+            let p = rot * nalgebra::Vector3::new(*x, *y, *z) + shift;
+            // A slot with no return is NaN.
+            if p.z.is_nan() || p.z >= band {
+                continue;
+            }
+            if let Some(i) = cells.index(p.x, p.y)
+                && i != last
+            {
+                if let Some(t) = self.floor_seen.get_mut(i) {
+                    *t = now;
+                }
                 last = i;
             }
         }
@@ -118,6 +153,38 @@ impl SeenMemory {
             0 => UnseenWhy::NoViewpoint,
             n => UnseenWhy::LookedAt(u32::from(n)),
         }
+    }
+}
+
+/// The grid cell of a map point by one multiplication per coordinate: what runs over every point of
+/// a look or a frame.
+struct CellLookup {
+    origin: Point2<f64>,
+    inverse: f64,
+    width: i64,
+    height: i64,
+}
+
+impl CellLookup {
+    fn new(geometry: &GridGeometry) -> Self {
+        Self {
+            origin: geometry.origin(),
+            inverse: 1.0 / geometry.resolution(),
+            width: geometry.width() as i64,
+            height: geometry.height() as i64,
+        }
+    }
+
+    /// The index of the cell holding (`x`, `y`); `None` off the grid or for a non-finite point.
+    fn index(&self, x: f32, y: f32) -> Option<usize> {
+        let fx = (f64::from(x) - self.origin.x) * self.inverse;
+        let fy = (f64::from(y) - self.origin.y) * self.inverse;
+        // Off the grid's low edges (or NaN) first: above them, truncation is the floor.
+        if !(fx >= 0.0 && fy >= 0.0) {
+            return None;
+        }
+        let (cx, cy) = (fx as i64, fy as i64);
+        (cx < self.width && cy < self.height).then(|| (cy * self.width + cx) as usize)
     }
 }
 
