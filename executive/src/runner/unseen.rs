@@ -92,13 +92,19 @@ impl SeenMemory {
         let cells = CellLookup::new(geometry);
         let band = floor_band as f32;
         let mut last = usize::MAX;
+        let (rx, ry, rz) = (rot.row(0), rot.row(1), rot.row(2));
         for ((x, y), z) in cloud.xs().iter().zip(cloud.ys()).zip(cloud.zs()) {
-            let p = rot * nalgebra::Vector3::new(*x, *y, *z) + shift;
-            // A slot with no return is NaN.
-            if p.z.is_nan() || p.z >= band {
+            let v = nalgebra::Vector3::new(*x, *y, *z);
+            // Height first: most of a frame is not floor. A slot with no return is NaN.
+            let height = rz.dot(&v.transpose()) + shift.z;
+            if height.is_nan() || height >= band {
                 continue;
             }
-            if let Some(i) = cells.index(p.x, p.y)
+            let (mx, my) = (
+                rx.dot(&v.transpose()) + shift.x,
+                ry.dot(&v.transpose()) + shift.y,
+            );
+            if let Some(i) = cells.index(mx, my)
                 && i != last
             {
                 if let Some(t) = self.floor_seen.get_mut(i) {
