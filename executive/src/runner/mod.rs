@@ -351,7 +351,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.robot.stop_walk()?;
             self.robot.stop_hand()?;
             self.robot.start_retract()?;
-            for _ in 0..400 {
+            // The watchdog's deadline for a retract, counted here in ticks: the watchdog itself
+            // is what may have stopped the run.
+            let bound = watchdog::retract_deadline(&self.config.model.arm);
+            let ticks = (bound / self.config.tick.max(1e-6)).ceil() as u64;
+            for _ in 0..ticks {
                 if let ActionStatus::Done(_) = self.robot.hand_status()? {
                     return Ok(());
                 }
@@ -359,7 +363,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             Err(RobotError::Timeout {
                 capability: "arm",
-                seconds: 400.0 * self.config.tick,
+                seconds: ticks as f64 * self.config.tick,
             })
         })();
         match result {

@@ -14,7 +14,7 @@
 //! the turning rate; a head motion's largest angle at [`HEAD_RATE_SHARE`] of the head's rate; a guarded move's way
 //! to its line and the line itself at the move's own speed (the hand goes to the line faster than
 //! that), plus the time its acceleration takes to reach that speed; a retract at
-//! [`RETRACT_NOMINAL`]. Deadlines count the robot time the runner lets pass (`Clock::advance`),
+//! [`retract_nominal`] (from the arm's reach and speed). Deadlines count the robot time the runner lets pass (`Clock::advance`),
 //! not the clock's reading, so a clock that steps neither fires them nor hides a hang.
 
 use nalgebra::{Isometry2, Point2, Point3};
@@ -39,10 +39,31 @@ pub(crate) const TURN_RATE_SHARE: f64 = 0.5;
 /// controller's acceleration limits and settling can make a short motion four times as long.
 pub(crate) const HEAD_RATE_SHARE: f64 = 0.25;
 
-/// Nominal duration of a retract (s): the hand comes back at most the arm's reach (under 1 m) at
-/// 0.1 m/s, half the simulation's free hand speed. The runner's safe stop waits 400 ticks (20 s) for
-/// a retract too, the same deadline at the default tick.
-pub(crate) const RETRACT_NOMINAL: f64 = 7.5;
+/// Share of the described free hand speed a retract is assumed to reach at least: the arm's
+/// controller ramps and may be slower than described, as a base's turns are ([`TURN_RATE_SHARE`]).
+pub(crate) const RETRACT_SPEED_SHARE: f64 = 0.5;
+
+/// Nominal duration of a retract (s): the hand comes back from the farthest corner of the arm's
+/// reach box to its rest position (1.02 m for the paper's robot) at [`RETRACT_SPEED_SHARE`] of the
+/// free hand speed (0.1 m/s): 10.2 s, a 26 s deadline. The runner's safe stop waits for a retract by
+/// the same deadline ([`retract_deadline`]).
+pub(crate) fn retract_nominal(arm: &nudge_robot_model::ArmModel) -> f64 {
+    let [rx, ry, rz] = arm.rest;
+    let far = |[lo, hi]: [f64; 2], rest: f64| (lo - rest).abs().max((hi - rest).abs());
+    let distance = nalgebra::Vector3::new(
+        far(arm.reach_x, rx),
+        far(arm.reach_y, ry),
+        far(arm.reach_z, rz),
+    )
+    .norm();
+    distance / (RETRACT_SPEED_SHARE * arm.free_speed).max(1e-3)
+}
+
+/// How long a retract may take before it has failed (s): [`FACTOR`] × [`retract_nominal`] +
+/// [`SLACK`], in whole seconds, like every deadline.
+pub(crate) fn retract_deadline(arm: &nudge_robot_model::ArmModel) -> f64 {
+    (FACTOR * retract_nominal(arm) + SLACK).ceil()
+}
 
 /// When an action started and how long it may take (s of robot time let pass).
 #[derive(Clone, Copy, Debug)]
@@ -63,6 +84,8 @@ pub(crate) struct Watchdog<R> {
     turn_floor: f64,
     /// Slowest pan/tilt rate assumed of the head (rad/s).
     head_floor: f64,
+    /// Nominal duration of a retract (s), from the arm's description.
+    retract: f64,
     elapsed: f64,
     walk: Option<Deadline>,
     head: Option<Deadline>,
@@ -80,6 +103,7 @@ impl<R: Robot> Watchdog<R> {
             walk_speed: model.body.walk_speed.max(1e-3),
             turn_floor: (TURN_RATE_SHARE * model.body.turn_rate).max(1e-3),
             head_floor: (HEAD_RATE_SHARE * model.head.rate).max(1e-3),
+            retract: retract_nominal(&model.arm),
             elapsed: 0.0,
             walk: None,
             head: None,
@@ -264,7 +288,7 @@ impl<R: Robot> Watchdog<R> {
 
     pub(crate) fn start_retract(&mut self) -> Result<(), RobotError> {
         self.inner.start_retract()?;
-        self.hand = self.deadline(RETRACT_NOMINAL);
+        self.hand = self.deadline(self.retract);
         Ok(())
     }
 
@@ -330,5 +354,24 @@ mod tests {
         while robot.hand_status().expect("status") == ActionStatus::Running {
             robot.advance(0.05).expect("advance");
         }
+    }
+
+    #[test]
+    fn a_retract_is_given_the_time_the_arm_needs_from_its_farthest_reach() {
+        // Invariant: the retract's nominal duration is the way from the farthest corner of the reach box to rest at half the free hand speed (1.02 m at 0.1 m/s for the paper's robot: 10.2 s, a 26 s deadline), and grows with a longer arm or a slower hand.
+        let arm = nudge_robot_model::RobotModel::default().arm;
+        let nominal = retract_nominal(&arm);
+        assert!((nominal - 10.16).abs() < 0.01, "{nominal}");
+        assert_eq!(retract_deadline(&arm), 26.0);
+        let longer = nudge_robot_model::ArmModel {
+            reach_x: [0.2, 1.2],
+            ..arm.clone()
+        };
+        assert!(retract_nominal(&longer) > nominal + 2.0);
+        let slower = nudge_robot_model::ArmModel {
+            free_speed: 0.1,
+            ..arm
+        };
+        assert!((retract_nominal(&slower) - 2.0 * nominal).abs() < 1e-9);
     }
 }
