@@ -4,12 +4,21 @@
 //! namespaces; without them the tests fail, they never skip.
 
 use std::process::{Command, Output};
+use std::sync::Mutex;
 
 const NUDGE: &str = env!("CARGO_BIN_EXE_nudge");
 
+/// One DDS test at a time: on a two-core machine, five bridges and runs at once (the paper's run
+/// among them, lock-stepped) starved one run's discovery past its 20 s connect wait.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
 /// Runs `script` under `sh` in a new user and network namespace with loopback up; `$NUDGE` is the
-/// binary.
+/// binary. A bridge is started under `timeout` (longer than its run's), so a run that never reached
+/// it cannot leave it waiting for a first request for ever.
 fn in_private_network(script: &str) -> Output {
+    let _turn = ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let out = Command::new("unshare")
         .args(["-rn", "sh", "-c"])
         .arg(format!("ip link set lo up && {script}"))
@@ -41,7 +50,7 @@ fn the_paper_room_over_dds_reaches_the_goal_with_the_in_process_verdicts() {
     let config = dir.path().join("robot.ros2.toml");
     std::fs::write(&config, "use_sim_time = true\n").expect("write config");
     let out = in_private_network(&format!(
-        "\"$NUDGE\" sim-bridge --idle 3 > {bridge} 2>&1 & \
+        "timeout 660 \"$NUDGE\" sim-bridge --idle 3 > {bridge} 2>&1 & \
          timeout 600 \"$NUDGE\" run --quiet --robot ros2 --ros2 {config}; code=$?; wait; cat {bridge}; exit $code",
         bridge = dir.path().join("bridge.log").display(),
         config = config.display()
@@ -76,7 +85,7 @@ fn run_with_fault(fault: &str, quiet: f64) -> (Option<i32>, String) {
     )
     .expect("write config");
     let out = in_private_network(&format!(
-        "\"$NUDGE\" sim-bridge --idle 2 --fault {fault} > {bridge} 2>&1 & \
+        "timeout 360 \"$NUDGE\" sim-bridge --idle 2 --fault {fault} > {bridge} 2>&1 & \
          timeout 300 \"$NUDGE\" run --quiet --robot ros2 --ros2 {config}; code=$?; wait; cat {bridge}; exit $code",
         bridge = dir.path().join("bridge.log").display(),
         config = config.display()
