@@ -8,8 +8,8 @@ use std::sync::Mutex;
 
 const NUDGE: &str = env!("CARGO_BIN_EXE_nudge");
 
-/// One DDS test at a time: on a two-core machine, five bridges and runs at once (the paper's run
-/// among them, lock-stepped) starved one run's discovery past its 20 s connect wait.
+/// One DDS test at a time: run all at once on the two-core machine, one run twice missed its 20 s
+/// connect wait (why, not found: the tests use little CPU); one at a time all five pass in a minute.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 
 /// Runs `script` under `sh` in a new user and network namespace with loopback up; `$NUDGE` is the

@@ -192,15 +192,20 @@ mod tests {
         (config, geometry, grid)
     }
 
+    /// A world model over `grid` that has seen nothing yet.
+    fn seen_world(geometry: GridGeometry, grid: ObstacleGrid) -> WorldModel {
+        WorldModel {
+            memory: SeenMemory::new(geometry.len()),
+            grid: Some(grid),
+            ..WorldModel::default()
+        }
+    }
+
     #[test]
     fn an_obstacle_seen_from_one_side_has_a_quarter_of_its_outline_seen() {
         // Invariant: the outline seen is the share of a footprint's edges whose floor just outside was seen, or that lie against another obstacle; a box whose west side alone was seen has a quarter of it, with a neighbour against its east side a half, with everything round it seen all of it; the places it was seen from are those of the looks that showed it.
         let (config, geometry, grid) = room_4_by_2();
-        let mut world = WorldModel {
-            memory: SeenMemory::new(geometry.len()),
-            grid: Some(grid),
-            ..WorldModel::default()
-        };
+        let mut world = seen_world(geometry, grid);
         let object = prism(1, 2.0, 0.5, 2.5, 1.0);
         let west = floor(1.5, 0.3, 1.95, 1.2);
         world.memory.saw(&geometry, &west);
@@ -330,11 +335,7 @@ mod tests {
     fn floor_seen_bare_under_an_obstacle_after_the_look_that_showed_it_proves_it_gone() {
         // Invariant: an obstacle's floor counts as seen bare after a moment only when frames after that moment put floor returns in at least half of the cells it overlaps: floor seen before it, or all around it but not under it (what an object still standing there leaves), does not count, nor do returns above the floor band.
         let (_, geometry, grid) = room_4_by_2();
-        let mut world = WorldModel {
-            memory: SeenMemory::new(geometry.len()),
-            grid: Some(grid),
-            ..WorldModel::default()
-        };
+        let mut world = seen_world(geometry, grid);
         let low = prism(1, 2.0, 0.5, 2.3, 0.8);
         let band = 0.05;
         let around = floor(1.5, 0.2, 2.8, 1.2);
@@ -371,11 +372,7 @@ mod tests {
     fn floor_in_a_sensor_frame_cloud_is_found_in_the_map() {
         // Invariant: a cloud in the sensor frame lands its floor in the map cells under it: returns 1.2 m below a sensor 1.2 m up are floor, returns 0.5 m below it are not.
         let (_, geometry, grid) = room_4_by_2();
-        let mut world = WorldModel {
-            memory: SeenMemory::new(geometry.len()),
-            grid: Some(grid),
-            ..WorldModel::default()
-        };
+        let mut world = seen_world(geometry, grid);
         let pose = Isometry3::translation(2.0, 1.0, 1.2);
         let mut cloud = ColourCloud::empty(CloudFrame::Sensor, pose, 0.0);
         for i in 0..20 {

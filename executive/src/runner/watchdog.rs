@@ -11,11 +11,12 @@
 //! A deadline is [`FACTOR`] × the action's nominal duration + [`SLACK`]. The nominal duration comes
 //! from the command and the robot description, with room for a robot slower than described: a
 //! walk's path length at the walking speed plus a half turn per waypoint at [`TURN_RATE_SHARE`] of
-//! the turning rate; a head motion's largest angle at [`HEAD_RATE_SHARE`] of the head's rate; a guarded move's way
-//! to its line and the line itself at the move's own speed (the hand goes to the line faster than
-//! that), plus the time its acceleration takes to reach that speed; a retract at
-//! [`retract_nominal`] (from the arm's reach and speed). Deadlines count the robot time the runner lets pass (`Clock::advance`),
-//! not the clock's reading, so a clock that steps neither fires them nor hides a hang.
+//! the turning rate; a head motion's largest angle at [`HEAD_RATE_SHARE`] of the head's rate; a
+//! guarded move's way to its line and the line itself at the move's own speed (the hand goes to the
+//! line faster than that), plus the time its acceleration takes to reach that speed; a retract the
+//! way back from the arm's farthest reach ([`retract_nominal`]). Deadlines count the robot time the
+//! runner lets pass (`Clock::advance`), not the clock's reading, so a clock that steps neither fires
+//! them nor hides a hang.
 
 use nalgebra::{Isometry2, Point2, Point3};
 use nudge_perception::ColourCloud;
