@@ -22,6 +22,7 @@ try:
     from cyclonedds.sub import DataReader
     from cyclonedds.topic import Topic
     from cyclonedds.core import Qos, Policy
+    from cyclonedds.internal import InvalidSample
 except ImportError:
     print("cyclonedds not installed", file=sys.stderr)
     sys.exit(3)
@@ -128,6 +129,10 @@ def main():
             wrench=Wrench(Vector3(1.5, -2.25, 3.125), Vector3(0.5, 0.0, -0.75)),
         ))
         for twist in cmd_vel.take(N=100):
+            # A writer that leaves (the adapter dropped) arrives as an InvalidSample: a change of
+            # the instance's state (disposed, no writers), with no Twist in it.
+            if isinstance(twist, InvalidSample):
+                continue
             print(json.dumps({
                 "linear": [twist.linear.x, twist.linear.y, twist.linear.z],
                 "angular": [twist.angular.x, twist.angular.y, twist.angular.z],
