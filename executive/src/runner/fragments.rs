@@ -7,7 +7,7 @@ use nudge_perception::{ColourCloud, Prism};
 
 use super::config::RunConfig;
 use super::floor_index::FloorIndex;
-use super::world::{SAME_PLACE, WorldModel, footprint_box};
+use super::world::{SAME_PLACE, TOP_MARGIN, WorldModel, footprint_box};
 
 impl WorldModel {
     /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
@@ -47,8 +47,8 @@ impl WorldModel {
                 .grid
                 .as_ref()
                 .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
-        let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
         loop {
+            let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
             let outlines: Vec<Option<nudge_motion::Obstacle>> = self
                 .prisms
                 .iter()
@@ -94,34 +94,113 @@ impl WorldModel {
             let Some((i, j)) = pair else {
                 return;
             };
-            let b = self.prisms.remove(j);
-            let a = &self.prisms[i];
-            let a_id = a.id;
-            let id = match (judged(a), judged(&b)) {
+            let (a, b) = (&self.prisms[i], &self.prisms[j]);
+            let id = match (judged(a), judged(b)) {
                 (true, _) => a.id,
                 (false, true) => b.id,
                 _ => a.id.min(b.id),
             };
-            let mut merged = a.merged_with(&b);
-            merged.id = id;
-            for (_, p, c) in b.points.iter_valid() {
-                merged.points.push(p, c);
-            }
-            self.prisms[i] = merged;
-            self.pushed.remove(&b.id);
-            for absorbed in [a_id, b.id].into_iter().filter(|k| *k != id) {
-                self.joined.insert(absorbed, id);
-            }
-            // The merged obstacle was seen from wherever either piece was.
-            let places = self.seen_from.remove(&b.id).unwrap_or_default();
-            let from = self.seen_from.entry(id).or_default();
-            for p in places {
-                if !from.iter().any(|q| (q - p).norm() < SAME_PLACE) {
-                    from.push(p);
-                }
+            self.join(i, j, id);
+        }
+    }
+
+    /// Takes into the obstacle `id`, about to be moved by a push, the pieces perception made of the
+    /// same object's other faces: untested obstacles touching it (within two grid cells) with which
+    /// it forms an L that is one object seen from its corner (see [`one_object_l`]), with no floor
+    /// the grid saw free inside the L. Before a look shows the object whole, its side seen edge-on
+    /// often comes out as a thin obstacle of its own beside the face the robot pushes; moved alone,
+    /// the pushed face would leave that side behind where the object no longer stands, in the way of
+    /// the pushes that follow.
+    pub(super) fn take_in_faces_of(
+        &mut self,
+        id: nudge_perception::ObjectId,
+        robot: &Point2<f64>,
+        config: &RunConfig,
+    ) {
+        let gap = 2.0
+            * self
+                .grid
+                .as_ref()
+                .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
+        let no_floor = FloorIndex::new(&ColourCloud::empty(
+            nudge_perception::CloudFrame::Map,
+            nalgebra::Isometry3::identity(),
+            0.0,
+        ));
+        loop {
+            let untouched = |p: &Prism| {
+                !self.settled.contains(&p.id)
+                    && !self.movable.contains(&p.id)
+                    && !self.moved.contains(&p.id)
+            };
+            let Some(i) = self.prisms.iter().position(|p| p.id == id) else {
+                return;
+            };
+            let x = &self.prisms[i];
+            let Ok(ox) = nudge_motion::Obstacle::from_prism(x) else {
+                return;
+            };
+            let face = self.prisms.iter().enumerate().position(|(j, f)| {
+                j != i
+                    && untouched(f)
+                    && nudge_motion::Obstacle::from_prism(f)
+                        .is_ok_and(|of| ox.distance_to_obstacle(&of) <= gap)
+                    && one_object_l(x, f, &outline_of_both(x, f), robot, config)
+                    && !self.floor_between(x, f, &no_floor, config)
+            });
+            let Some(j) = face else {
+                return;
+            };
+            self.join(i, j, id);
+        }
+    }
+
+    /// Merges obstacle `j` into obstacle `i` under `id` (one of theirs): the hull of both with both
+    /// point sets, seen from wherever either was; the other id is recorded as joined to it.
+    fn join(&mut self, i: usize, j: usize, id: nudge_perception::ObjectId) {
+        let a_id = self.prisms[i].id;
+        let b = self.prisms.remove(j);
+        let i = if j < i { i - 1 } else { i };
+        let a = &self.prisms[i];
+        let mut merged = a.merged_with(&b);
+        merged.id = id;
+        for (_, p, c) in b.points.iter_valid() {
+            merged.points.push(p, c);
+        }
+        self.prisms[i] = merged;
+        self.pushed.remove(&b.id);
+        for absorbed in [a_id, b.id].into_iter().filter(|k| *k != id) {
+            self.joined.insert(absorbed, id);
+        }
+        // The merged obstacle was seen from wherever either piece was.
+        let places = self.seen_from.remove(&b.id).unwrap_or_default();
+        let from = self.seen_from.entry(id).or_default();
+        for p in places {
+            if !from.iter().any(|q| (q - p).norm() < SAME_PLACE) {
+                from.push(p);
             }
         }
     }
+}
+
+/// Whether two pieces meeting in an L are two faces of one object seen from its corner (a box's side
+/// and its far part): together (`hull`) no wider than anything the robot pushes, and both tops in
+/// view from `robot` at one height — a top seen is an object's, and one object's faces share it. Two
+/// runs of structure meeting at a corner have no top in view (the view ends on them), and a box
+/// against a wall's end is lower than the wall.
+fn one_object_l(
+    a: &Prism,
+    b: &Prism,
+    hull: &Prism,
+    robot: &Point2<f64>,
+    config: &RunConfig,
+) -> bool {
+    let top_in_view =
+        |p: &Prism| p.z_max + TOP_MARGIN < config.top_in_view(super::world::far_side(p, robot));
+    extent(hull) <= config.max_candidate_extent
+        && (a.z_max - b.z_max).abs() <= TOP_MARGIN
+        && top_in_view(a)
+        && top_in_view(b)
 }
 
 impl WorldModel {
@@ -314,6 +393,33 @@ mod tests {
             &config,
         );
         assert_eq!(corner.prisms.len(), 2, "{:?}", corner.prisms);
+    }
+
+    #[test]
+    fn a_pushed_box_takes_in_its_side_seen_as_a_piece_of_its_own_and_not_the_wall_beside_it() {
+        // Invariant: before a push moves an obstacle, an untested piece touching it in an L that is one object seen from its corner (no wider than an object to push, both tops in view at one height) joins it under its id, so the move carries the whole object; a taller piece (a wall's end, its top out of view) and a piece not touching stay where they are.
+        let config = config_to(Point2::new(7.2, 1.7));
+        let robot = Point2::new(3.55, 2.25);
+        let side = solid(7, (4.04, 1.70, 4.11, 2.12), 0.79);
+        let far_part = solid(8, (4.04, 2.04, 4.59, 2.47), 0.79);
+        let wall_end = solid(9, (4.25, 2.47, 4.40, 3.2), 2.0);
+        let apart = solid(10, (4.0, 0.9, 4.5, 1.4), 0.79);
+        let mut world = WorldModel {
+            prisms: vec![side, far_part.clone(), wall_end.clone(), apart.clone()],
+            ..WorldModel::default()
+        };
+        world.take_in_faces_of(ObjectId(8), &robot, &config);
+        assert_eq!(world.prisms.len(), 3, "{:?}", world.prisms);
+        let pushed = world
+            .prisms
+            .iter()
+            .find(|p| p.id == ObjectId(8))
+            .expect("the pushed box");
+        assert!(pushed.contains_xy(&Point2::new(4.07, 1.75)));
+        assert!(pushed.contains_xy(&Point2::new(4.3, 1.95)));
+        assert_eq!(world.joined.get(&ObjectId(7)), Some(&ObjectId(8)));
+        assert!(world.prisms.contains(&wall_end));
+        assert!(world.prisms.contains(&apart));
     }
 
     #[test]

@@ -511,6 +511,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// Moves obstacle `id` by the rigid `motion` (map frame) in the world model and the grid.
     pub(crate) fn move_object(&mut self, id: ObjectId, motion: &nalgebra::Isometry3<f64>) {
+        if let Ok(pose) = self.robot.base_pose() {
+            let here = nalgebra::Point2::from(pose.value.translation.vector);
+            self.world.take_in_faces_of(id, &here, &self.config);
+        }
         let before = self.world.prisms.iter().find(|p| p.id == id).cloned();
         self.world.move_rigidly(id, motion);
         let after = self.world.prisms.iter().find(|p| p.id == id).cloned();

@@ -454,9 +454,6 @@ impl WorldModel {
     /// and far reads as high as the near view shows, well above the far view's top. Not known to
     /// have been seen by a look: no.
     fn top_seen(&self, prism: &Prism, config: &RunConfig) -> bool {
-        /// Elevation cells are 4 cm and the range noise about a centimetre: a surface cut by the
-        /// view's top ray reads up to this far below it.
-        const TOP_MARGIN: f64 = 0.1;
         self.seen_from
             .get(&prism.id)
             .and_then(|places| {
@@ -498,6 +495,10 @@ pub(super) const RESTING_COLUMN: f64 = 0.05;
 /// Looks taken this close together (m) were taken from one place.
 pub(super) const SAME_PLACE: f64 = 0.05;
 
+/// Elevation cells are 4 cm and the range noise about a centimetre: a surface cut by the view's top
+/// ray reads up to this far below it, and one top seen twice reads up to this far apart (m).
+pub(super) const TOP_MARGIN: f64 = 0.1;
+
 /// Whether the robot's disc at `centre` overlaps `prism`'s footprint by more than a few centimetres.
 fn prism_covers_disc(prism: &Prism, centre: &Point2<f64>, radius: f64) -> bool {
     let inner = radius * 0.5;
@@ -536,7 +537,7 @@ impl Side {
 
 /// Distance (m) from `look` to the farthest vertex of `prism`'s footprint: how far off its far side
 /// was from there.
-fn far_side(prism: &Prism, look: &Point2<f64>) -> f64 {
+pub(super) fn far_side(prism: &Prism, look: &Point2<f64>) -> f64 {
     prism
         .footprint
         .iter()
