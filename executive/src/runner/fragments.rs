@@ -41,12 +41,7 @@ impl WorldModel {
     /// push test's verdict stay apart; a merge keeps the id of the one that has a verdict (else the
     /// older id).
     pub(super) fn merge_fragments(&mut self, floor: &FloorIndex, config: &RunConfig) {
-        // Two cells: a hull's edge runs a cell off the face it was made from, on either side.
-        let gap = 2.0
-            * self
-                .grid
-                .as_ref()
-                .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
+        let gap = self.touching_gap();
         loop {
             let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
             let outlines: Vec<Option<nudge_motion::Obstacle>> = self
@@ -117,11 +112,7 @@ impl WorldModel {
         robot: &Point2<f64>,
         config: &RunConfig,
     ) {
-        let gap = 2.0
-            * self
-                .grid
-                .as_ref()
-                .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution());
+        let gap = self.touching_gap();
         let no_floor = FloorIndex::new(&ColourCloud::empty(
             nudge_perception::CloudFrame::Map,
             nalgebra::Isometry3::identity(),
@@ -153,6 +144,15 @@ impl WorldModel {
             };
             self.join(i, j, id);
         }
+    }
+
+    /// How far apart (m) two obstacles' footprints may lie and still touch: two grid cells, as a
+    /// hull's edge runs a cell off the face it was made from, on either side.
+    fn touching_gap(&self) -> f64 {
+        2.0 * self
+            .grid
+            .as_ref()
+            .map_or(MERGE_GAP_FALLBACK, |g| g.geometry().resolution())
     }
 
     /// Merges obstacle `j` into obstacle `i` under `id` (one of theirs): the hull of both with both
