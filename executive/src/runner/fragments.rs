@@ -113,17 +113,13 @@ impl WorldModel {
         config: &RunConfig,
     ) {
         let gap = self.touching_gap();
+        // No look's floor points are at hand mid-push: only the cells the grid saw free count.
         let no_floor = FloorIndex::new(&ColourCloud::empty(
             nudge_perception::CloudFrame::Map,
             nalgebra::Isometry3::identity(),
             0.0,
         ));
         loop {
-            let untouched = |p: &Prism| {
-                !self.settled.contains(&p.id)
-                    && !self.movable.contains(&p.id)
-                    && !self.moved.contains(&p.id)
-            };
             let Some(i) = self.prisms.iter().position(|p| p.id == id) else {
                 return;
             };
@@ -133,10 +129,10 @@ impl WorldModel {
             };
             let face = self.prisms.iter().enumerate().position(|(j, f)| {
                 j != i
-                    && untouched(f)
+                    && self.untouched(f.id)
                     && nudge_motion::Obstacle::from_prism(f)
                         .is_ok_and(|of| ox.distance_to_obstacle(&of) <= gap)
-                    && one_object_l(x, f, &outline_of_both(x, f), robot, config)
+                    && one_object_l(x, f, robot, config)
                     && !self.floor_between(x, f, &no_floor, config)
             });
             let Some(j) = face else {
@@ -184,20 +180,14 @@ impl WorldModel {
 }
 
 /// Whether two pieces meeting in an L are two faces of one object seen from its corner (a box's side
-/// and its far part): together (`hull`) no wider than anything the robot pushes, and both tops in
-/// view from `robot` at one height — a top seen is an object's, and one object's faces share it. Two
-/// runs of structure meeting at a corner have no top in view (the view ends on them), and a box
-/// against a wall's end is lower than the wall.
-fn one_object_l(
-    a: &Prism,
-    b: &Prism,
-    hull: &Prism,
-    robot: &Point2<f64>,
-    config: &RunConfig,
-) -> bool {
+/// and its far part): together no wider than anything the robot pushes, and both tops in view from
+/// `robot` at one height — a top seen is an object's, and one object's faces share it. Two runs of
+/// structure meeting at a corner have no top in view (the view ends on them), and a box against a
+/// wall's end is lower than the wall.
+fn one_object_l(a: &Prism, b: &Prism, robot: &Point2<f64>, config: &RunConfig) -> bool {
     let top_in_view =
         |p: &Prism| p.z_max + TOP_MARGIN < config.top_in_view(super::world::far_side(p, robot));
-    extent(hull) <= config.max_candidate_extent
+    extent(&outline_of_both(a, b)) <= config.max_candidate_extent
         && (a.z_max - b.z_max).abs() <= TOP_MARGIN
         && top_in_view(a)
         && top_in_view(b)

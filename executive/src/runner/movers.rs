@@ -110,10 +110,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let prisms = std::mem::take(&mut self.world.prisms);
         let world = &self.world;
         let (gone, kept): (Vec<Prism>, Vec<Prism>) = prisms.into_iter().partition(|p| {
-            !world.settled.contains(&p.id)
-                && !world.movable.contains(&p.id)
-                && !world.moved.contains(&p.id)
-                && seen_through_share(p, changes) > SEEN_THROUGH_SHARE
+            world.untouched(p.id) && seen_through_share(p, changes) > SEEN_THROUGH_SHARE
         });
         self.world.prisms = kept;
         if !gone.is_empty() {
@@ -141,12 +138,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.world
             .prisms
             .iter()
-            .filter(|p| {
-                !self.world.settled.contains(&p.id)
-                    && !self.world.movable.contains(&p.id)
-                    && !self.world.moved.contains(&p.id)
-                    && test(p)
-            })
+            .filter(|p| self.world.untouched(p.id) && test(p))
             .map(|p| p.id)
             .collect()
     }
@@ -293,11 +285,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.world.grid_saw_it_gone(p, since)
             }
         };
-        let untouched = |p: &Prism| {
-            !self.world.settled.contains(&p.id)
-                && !self.world.movable.contains(&p.id)
-                && !self.world.moved.contains(&p.id)
-        };
         let gone: Vec<ObjectId> = self
             .world
             .prisms
@@ -305,7 +292,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .filter(|p| {
                 stale(&p.id)
                     || looked_gone(p)
-                    || (untouched(p) && self.world.grid_sees_free(p) && {
+                    || (self.world.untouched(p.id) && self.world.grid_sees_free(p) && {
                         // The grid's Free cells prove nothing below the lowest ray's clearing
                         // height: a lower obstacle goes once frames have also seen the floor it
                         // stood on bare since a look last showed it.

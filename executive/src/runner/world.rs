@@ -391,6 +391,13 @@ impl WorldModel {
             .unwrap_or(new)
     }
 
+    /// Whether nobody has tested, moved or judged obstacle `id`: no push test's verdict, not known
+    /// movable, never moved by the robot. Only such an obstacle can be a mistake of perception's (a
+    /// smear, a piece of something else) to forget or join to another.
+    pub(super) fn untouched(&self, id: ObjectId) -> bool {
+        !self.settled.contains(&id) && !self.movable.contains(&id) && !self.moved.contains(&id)
+    }
+
     /// Moves obstacle `id` by a measured rigid `motion` (map frame; a confirmed push, which may have
     /// turned it as well as slid it): its old footprint is free now even where no background shows
     /// behind it. Marked pushed and moved.
