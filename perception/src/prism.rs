@@ -41,6 +41,15 @@ impl Prism {
         polygon_area(&self.footprint).abs()
     }
 
+    /// The footprint's centre of area (map frame): where an object of even weight has its centre of
+    /// friction on the floor. Not the vertices' mean: a hull's vertices crowd where its points were
+    /// noisy (the rounded corners of a face seen end-on), and their mean lies off the middle by as
+    /// much as a quarter of the object. The vertices' mean for a footprint with no area; `None` for
+    /// an empty one.
+    pub fn centroid(&self) -> Option<Point2<f64>> {
+        polygon_centroid(&self.footprint)
+    }
+
     /// Height of the prism's top above the floor (m); the same as `z_max`.
     pub fn top(&self) -> f64 {
         self.z_max
@@ -222,6 +231,28 @@ pub fn polygon_area(poly: &[Point2<f64>]) -> f64 {
         .sum::<f64>()
 }
 
+/// The centre of area of a simple polygon; the vertices' mean when it has no area (fewer than three
+/// vertices, or all on a line); `None` when it has no vertex.
+pub fn polygon_centroid(poly: &[Point2<f64>]) -> Option<Point2<f64>> {
+    let first = *poly.first()?;
+    let n = poly.len();
+    // About the first vertex, so that coordinates far from the origin lose no precision.
+    let (mut twice_area, mut moment) = (0.0, nalgebra::Vector2::zeros());
+    for i in 0..n {
+        let (a, b) = (poly[i] - first, poly[(i + 1) % n] - first);
+        let cross = a.x * b.y - b.x * a.y;
+        twice_area += cross;
+        moment += (a + b) * cross;
+    }
+    if twice_area.abs() > 1e-12 {
+        return Some(first + moment / (3.0 * twice_area));
+    }
+    let sum = poly
+        .iter()
+        .fold(nalgebra::Vector2::zeros(), |acc, p| acc + p.coords);
+    Some(Point2::from(sum / n as f64))
+}
+
 /// Intersection over union of two convex counter-clockwise polygons.
 pub fn convex_iou(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     let (area_a, area_b) = (polygon_area(a).abs(), polygon_area(b).abs());
@@ -285,6 +316,37 @@ mod tests {
             z_max: 1.0,
             points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
         }
+    }
+
+    #[test]
+    fn a_footprint_with_crowded_vertices_has_its_centroid_in_its_middle() {
+        // Invariant: the centroid is the footprint's centre of area, wherever its vertices crowd: a
+        // face seen end-on, 0.1 m deep and 1.2 m long, whose hull has eight vertices round one end.
+        let mut footprint = vec![Point2::new(5.4, 0.3), Point2::new(5.4, 1.5)];
+        footprint.push(Point2::new(5.3, 1.5));
+        footprint.extend((0..8).map(|k| {
+            let a = std::f64::consts::FRAC_PI_2 * f64::from(k) / 7.0;
+            Point2::new(5.35 - 0.05 * a.cos(), 0.35 - 0.05 * a.sin())
+        }));
+        let mut prism = square(0, 0.0, 0.0, 1.0);
+        // Counter-clockwise: the right edge up, the top leftwards, the rounded corner down and back.
+        footprint.rotate_left(1);
+        prism.footprint = footprint;
+        let c = prism.centroid().expect("a footprint");
+        let mean = prism.footprint.iter().map(|p| p.y).sum::<f64>() / prism.footprint.len() as f64;
+        assert!((c.y - 0.9).abs() < 0.02, "centroid {c}");
+        assert!((c.x - 5.35).abs() < 0.01, "centroid {c}");
+        assert!(
+            mean < 0.7,
+            "the vertices' mean {mean} lies near the crowded end"
+        );
+        assert_eq!(
+            square(1, 2.0, 3.0, 2.0).centroid(),
+            Some(Point2::new(3.0, 4.0))
+        );
+        let line = [Point2::new(0.0, 0.0), Point2::new(2.0, 0.0)];
+        assert_eq!(polygon_centroid(&line), Some(Point2::new(1.0, 0.0)));
+        assert_eq!(polygon_centroid(&[]), None);
     }
 
     #[test]

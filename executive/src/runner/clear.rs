@@ -46,11 +46,10 @@ impl Tracked {
         floor_motion(&self.motion)
     }
 
-    /// The footprint's centre (its vertices' mean) before the push.
+    /// The footprint's centre of area before the push (the centre of the object's friction on the
+    /// floor, for an object of even weight): the line a stroke pushes through.
     fn centre_before(&self) -> Point2<f64> {
-        let f = &self.prism.footprint;
-        let sum = f.iter().fold(Vector2::zeros(), |acc, p| acc + p.coords);
-        Point2::from(sum / f.len().max(1) as f64)
+        self.prism.centroid().unwrap_or_else(Point2::origin)
     }
 
     /// The footprint's centre now.
@@ -167,7 +166,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let max_strokes = 2 * (intent.distance / full_stroke).ceil() as usize + 2;
         let mut moved = 0.0;
         let mut peak: f64 = 0.0;
-        let mut line: Option<f64> = None;
+        // Every stroke of a followed push goes through the object's centre of friction (its
+        // footprint's centre of area, for an object of even weight), the first one included, not
+        // where the plan's stance put the hand: a push at a point off that line turns the object,
+        // and a box turned across a corridor blocks it. A short push keeps the plan's line.
+        let mut line: Option<f64> = tracked
+            .as_ref()
+            .map(|t| across(&t.centre_before(), &direction));
         for stroke_index in 0..max_strokes {
             let remaining = intent.distance - moved;
             if remaining <= 0.02 {
@@ -384,7 +389,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// already within the base's safety margin of something beside it, the push a few degrees off
     /// parallel to a table's edge) slides instead: along `direction` less its part towards the
     /// nearest other obstacle the world model knows there.
-    fn step_forward(
+    pub(super) fn step_forward(
         &mut self,
         direction: Vector2<f64>,
         distance: f64,
@@ -476,12 +481,16 @@ fn steer(yaw: f64, half_width: f64) -> f64 {
     (2.0 * yaw * half_width).clamp(-most, most)
 }
 
-/// Turns up to which [`steer`] pushes an object back (rad): a turn of a few degrees is what a push at
-/// a point gives an object sliding freely; one of more than 10° in a stroke came from something else
-/// (a corner caught on another obstacle, a hand far off a face's middle), and a lever against it has
-/// pushed a box further round in the simulation's batches. Beyond it the object is pushed through its
-/// centre, and the rest of its sweep is checked from where it is.
-const STEER_WITHIN: f64 = 10.0 * std::f64::consts::PI / 180.0;
+/// Turns up to which [`steer`] pushes an object back (rad). Within them the hand, pushing along the
+/// plan's line, meets the face it pushed at first, and a lever along that face turns the object
+/// back; turned 45°, the hand would meet the corner between two faces, where a lever along either
+/// one makes no sense. 30° keeps that corner 15° away: ICP reads the turn of a box seen in part up to
+/// 10° off (corridor runs against the simulation's truth), and a stroke turns it a few degrees more
+/// before the next reading. Beyond it the object is pushed through
+/// its centre, and the rest of its sweep is checked from where it is. (Held to 10° before, when
+/// the centre was the hull's vertices' mean, which lies off the middle of a face seen end-on: a
+/// lever about a wrong centre turned boxes further round.)
+const STEER_WITHIN: f64 = 30.0 * std::f64::consts::PI / 180.0;
 
 /// The hand's sideways offset in `base_link` (clamped into the arm's sideways `reach`) for a stroke
 /// along `direction` on the line `across` (see [`across`]) that meets the face near `face` (map).
@@ -582,6 +591,35 @@ mod tests {
             (-0.4, 0.4),
         );
         assert_eq!(y, 0.4);
+    }
+
+    #[test]
+    fn a_box_seen_end_on_is_pushed_through_its_centre_of_area_not_its_vertices_mean() {
+        // Invariant: the line a followed push's strokes go through is the footprint's centre of area: a face seen end-on, 0.1 m deep and 1.2 m across the push, whose hull crowds eight vertices round one end, is pushed at its middle (y 0.9), where its vertices' mean (below 0.7) would turn it.
+        let mut footprint = vec![Point2::new(5.4, 0.3), Point2::new(5.4, 1.5)];
+        footprint.push(Point2::new(5.3, 1.5));
+        footprint.extend((0..8).map(|k| {
+            let a = std::f64::consts::FRAC_PI_2 * f64::from(k) / 7.0;
+            Point2::new(5.35 - 0.05 * a.cos(), 0.35 - 0.05 * a.sin())
+        }));
+        let mut t = tracked(Isometry3::identity());
+        t.prism.footprint = footprint;
+        let direction = Vector2::new(1.0, 0.0);
+        let line = across(&t.centre_before(), &direction);
+        assert!((line - 0.9).abs() < 0.02, "line at {line}");
+    }
+
+    #[test]
+    fn a_turned_object_is_pushed_back_by_a_lever_until_its_corner_nears() {
+        // Invariant: the lever lies on the side the object turned towards (left for a counter-clockwise turn), grows with the turn up to half the half width, and is none beyond 30°, where the hand would come near the corner between two faces.
+        let half = 0.6;
+        let small = steer(5f64.to_radians(), half);
+        assert!(small > 0.0 && small < 0.5 * half, "{small}");
+        assert!((steer(-5f64.to_radians(), half) + small).abs() < 1e-12);
+        assert_eq!(steer(20f64.to_radians(), half), 0.5 * half);
+        assert_eq!(steer(-28f64.to_radians(), half), -0.5 * half);
+        assert_eq!(steer(35f64.to_radians(), half), 0.0);
+        assert_eq!(steer(0.0, half), 0.0);
     }
 
     #[test]

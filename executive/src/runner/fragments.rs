@@ -142,6 +142,20 @@ impl WorldModel {
         }
     }
 
+    /// Whether obstacle `prism` touches another (within [`Self::touching_gap`], at overlapping
+    /// heights): an object pushed to rest against something, whose outline a look may have taken
+    /// together with it.
+    pub(super) fn rests_against_another(&self, prism: &Prism) -> bool {
+        let gap = self.touching_gap();
+        let Ok(own) = nudge_motion::Obstacle::from_prism(prism) else {
+            return false;
+        };
+        self.prisms.iter().filter(|q| q.id != prism.id).any(|q| {
+            nudge_motion::Obstacle::from_prism(q)
+                .is_ok_and(|o| own.heights_overlap(&o) && own.distance_to_obstacle(&o) <= gap)
+        })
+    }
+
     /// How far apart (m) two obstacles' footprints may lie and still touch: two grid cells, as a
     /// hull's edge runs a cell off the face it was made from, on either side.
     fn touching_gap(&self) -> f64 {
@@ -340,7 +354,7 @@ const MERGE_BLOCKING_FREE_AREA: f64 = 0.02;
 mod tests {
     use super::*;
     use crate::runner::world::tests::{config_to, floor, solid};
-    use nudge_perception::ObjectId;
+    use nudge_perception::{ObjectId, Prism};
 
     #[test]
     fn pieces_of_one_object_merge_and_two_objects_side_by_side_do_not() {
@@ -410,6 +424,23 @@ mod tests {
         assert_eq!(world.joined.get(&ObjectId(7)), Some(&ObjectId(8)));
         assert!(world.prisms.contains(&wall_end));
         assert!(world.prisms.contains(&apart));
+    }
+
+    #[test]
+    fn an_object_rests_against_another_only_within_the_touching_gap() {
+        // Invariant: an obstacle rests against another when their footprints lie within the touching gap (5 cm without a grid) at overlapping heights; 12 cm apart, or a shelf above it, it does not.
+        let boxed = solid(4, (2.0, 1.0, 2.5, 1.5), 0.7);
+        let world = |other: Prism| WorldModel {
+            prisms: vec![boxed.clone(), other],
+            ..WorldModel::default()
+        };
+        let against = world(solid(5, (2.54, 0.5, 3.0, 2.0), 2.0));
+        assert!(against.rests_against_another(&boxed));
+        let apart = world(solid(5, (2.62, 0.5, 3.0, 2.0), 2.0));
+        assert!(!apart.rests_against_another(&boxed));
+        let mut shelf = solid(5, (2.52, 0.5, 3.0, 2.0), 1.6);
+        shelf.z_min = 1.2;
+        assert!(!world(shelf).rests_against_another(&boxed));
     }
 
     #[test]

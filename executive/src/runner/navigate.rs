@@ -21,7 +21,10 @@ const ESCAPE_RADIUS: f64 = 0.25;
 
 /// The free position nearest `here` within [`ESCAPE_RADIUS`], searched on rings 5 cm apart with 32
 /// bearings each (deterministic), if any.
-fn nearest_free(here: &Point2<f64>, validity: &dyn StateValidity) -> Option<Point2<f64>> {
+pub(super) fn nearest_free(
+    here: &Point2<f64>,
+    validity: &dyn StateValidity,
+) -> Option<Point2<f64>> {
     const RINGS: usize = 5;
     const BEARINGS: usize = 32;
     (1..=RINGS).find_map(|ring| {

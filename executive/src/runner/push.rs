@@ -11,7 +11,7 @@ use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colo
 use rand_chacha::ChaCha8Rng;
 
 use super::config::RunConfig;
-use super::navigate::wrap;
+use super::navigate::{nearest_free, wrap};
 use super::unseen::Floor;
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
@@ -118,20 +118,23 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             let (low, high) = push_config.reach_z;
             push_config.reach_z = (low, high.min((prism.z_max / 2.0).max(low)));
         }
-        let mut planned = Err(PushError::NoStandPose(target));
-        let mut unseen = false;
-        let mut searched = None;
+        let mut validities = Vec::new();
         for validity in self.world.validities(&here, &self.config) {
-            let validity = match validity {
-                Ok(v) if v.is_free(&here) => v,
-                Ok(_) => continue,
+            match validity {
+                Ok(v) => validities.push(v),
                 Err(reason) => {
                     return Event::NoPushPlan {
                         reason,
                         unseen: false,
                     };
                 }
-            };
+            }
+        }
+        let starts = push_starts(&here, validities);
+        let mut planned = Err(PushError::NoStandPose(target));
+        let mut unseen = false;
+        let mut searched = None;
+        for (validity, from) in starts {
             let floor = self.world.grid.as_ref().map(|grid| Floor {
                 grid,
                 memory: &self.world.memory,
@@ -146,7 +149,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             let attempt = plan_push_over(
                 &prism,
                 &validity,
-                &here,
+                &from,
                 &goal,
                 &push_config,
                 check,
@@ -159,7 +162,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                         &self.world,
                         &self.config,
                         &validity,
-                        &here,
+                        &from,
                         &goal,
                         check,
                         single.object,
@@ -261,6 +264,33 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
+    /// How far (m) along the push this object's face lies beyond where the world model has it, as
+    /// the hand last touched it (the push test before this one, whose colour ICP may not have been
+    /// trusted to move the model), where that is more than half the approach gap (perception's few
+    /// centimetres): `None` for an object the hand has not touched since, or whose model stands
+    /// where the hand left it.
+    fn slid_since_touched(&mut self, intent: &PushIntent) -> Result<Option<f64>, Interrupt> {
+        let Some(at) = self
+            .world
+            .touched
+            .filter(|(id, _)| *id == intent.target)
+            .map(|(_, at)| at)
+        else {
+            return Ok(None);
+        };
+        let Some(prism) = self.prism(intent.target) else {
+            return Ok(None);
+        };
+        let d = intent.direction.into_inner();
+        // Along the hand's line through the touch, from a metre before it.
+        let from = at - d;
+        let Some(entry) = entry_along(&prism.footprint, &from, &d) else {
+            return Ok(None);
+        };
+        let along = 1.0 - entry;
+        Ok((along > self.config.push_motion.approach_gap / 2.0).then_some(along))
+    }
+
     /// The contact point in `base_link` (x ahead, y left), from the plan or, failing that, the prism.
     pub(super) fn contact_in_base(
         &mut self,
@@ -292,24 +322,42 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let prism = self.prism(intent.target).cloned();
         // Only a line lowered below the face's top band has to be brought into view.
         let hand_z = (intent.hand_height < intent.clear_height).then_some(intent.hand_height);
+        // The face must lie near enough for the stroke to push it the test's travel within the
+        // arm's reach. Where the hand last touched this object (the test before this one) is where
+        // its face was when the hand left it, measured: an object that test slid away from the plan
+        // (its colour ICP perhaps untrusted, so the world model did not move it) is looked for
+        // there, and followed along the push first when that lies beyond a full test stroke, as a
+        // clearing stroke follows. Else the stroke would touch it at the end of the arm's travel and
+        // learn nothing (a "test" that neither moved nor resisted, which a second ambiguity then
+        // takes for static).
+        let direction = intent.direction.into_inner();
+        let slid = self.slid_since_touched(intent)?;
+        if let Some(d) = slid {
+            let planned = self.contact_in_base(intent)?;
+            if planned.x + d > self.config.model.arm.reach_x[1] - motion.test_travel {
+                self.step_forward(direction, d, intent.target)?;
+            }
+        }
+        let slid_by = direction * slid.unwrap_or(0.0);
         let view = match &prism {
-            Some(p) => Some(self.look_at_object(p, Vector2::zeros(), hand_z)?),
+            Some(p) => Some(self.look_at_object(p, slid_by, hand_z)?),
             None => None,
         };
         let before = match (&prism, &view) {
-            (Some(p), Some(view)) => Some(crop(view, p, Vector2::zeros(), motion.crop_margin)),
+            (Some(p), Some(view)) => Some(crop(view, p, slid_by, motion.crop_margin)),
             _ => None,
         };
         let planned = self.contact_in_base(intent)?;
+        let base_now = self.robot.base_pose()?.value;
+        let planned = base_now.inverse_transform_point(&(base_now * planned + slid_by));
         // The object's face on the hand's line as the look just taken shows it, where that is well
         // nearer than planned: a face planned on a hull's edge across a part never seen (a chair's back seen
         // only at its ends) may lie centimetres behind the real one, and a stroke started past the
         // real face would drive the hand into the object.
         let seen = match &before {
             Some(cloud) => {
-                let base = self.robot.base_pose()?.value;
                 let half = self.config.push.hand_half_width;
-                face_on_line(cloud, &base, planned.y, intent.hand_height, half, 0.0)
+                face_on_line(cloud, &base_now, planned.y, intent.hand_height, half, 0.0)
             }
             None => None,
         };
@@ -375,11 +423,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.world.touched = Some((intent.target, base * Point2::new(stroke.end_x, contact.y)));
         }
         self.retract()?;
-        let direction = intent.direction.into_inner();
         let icp = match (&prism, before) {
             (Some(p), Some(before)) => {
                 let shift = direction * stroke.travel_after_contact;
-                let after = self.object_points(p, shift, hand_z)?;
+                let after = self.object_points(p, slid_by + shift, hand_z)?;
                 let reading = icp_reading(&before, &after, shift);
                 let classifier = &self.config.executive.classifier;
                 // Whatever the finding, a trusted motion reading is where the object is now: a retest
@@ -388,7 +435,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     && classifier.trusts(&icp)
                     && icp.displacement >= classifier.still_below
                 {
-                    self.displace(intent.target, moved);
+                    self.displace(intent.target, slid_by + moved);
                 }
                 reading.map(|r| r.0)
             }
@@ -776,9 +823,120 @@ fn search_sequence(
     )
 }
 
+/// How far (m) from `from` along the unit `direction` the line first meets the convex `footprint`;
+/// `None` when it misses it.
+fn entry_along(
+    footprint: &[Point2<f64>],
+    from: &Point2<f64>,
+    direction: &Vector2<f64>,
+) -> Option<f64> {
+    let n = footprint.len();
+    (0..n)
+        .filter_map(|i| {
+            let (a, b) = (footprint[i], footprint[(i + 1) % n]);
+            let edge = b - a;
+            let denom = direction.perp(&edge);
+            if denom.abs() < 1e-12 {
+                return None;
+            }
+            let rel = a - from;
+            let t = rel.perp(&edge) / denom;
+            let u = rel.perp(direction) / denom;
+            (t >= 0.0 && (0.0..=1.0).contains(&u)).then_some(t)
+        })
+        .min_by(f64::total_cmp)
+}
+
+/// The worlds (clearances, widest first) a push is planned in, each with where the robot sets out
+/// from: where it stands, in each world in which it stands free; where it stands free in none
+/// (pressed against a face it has just pushed, or beside a hull a few centimetres generous), from
+/// the nearest free spot in each, as a walk sets out (`nearest_free`), the approach stepping there
+/// first. Otherwise every push would read "no free stand pose" for the robot's own spot.
+fn push_starts(here: &Point2<f64>, validities: Vec<Validity>) -> Vec<(Validity, Point2<f64>)> {
+    if validities.iter().any(|v| v.is_free(here)) {
+        return validities
+            .into_iter()
+            .filter(|v| v.is_free(here))
+            .map(|v| (v, *here))
+            .collect();
+    }
+    validities
+        .into_iter()
+        .filter_map(|v| nearest_free(here, &v).map(|from| (v, from)))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nudge_motion::{Bounds, RobotCylinder, ValidityConfig};
+
+    /// A world with a 1 m × 2 m box whose near face is `x0` ahead of the origin, for a robot of
+    /// radius `radius`.
+    fn world_with_box(x0: f64, radius: f64) -> Validity {
+        let square = Prism {
+            id: ObjectId(1),
+            footprint: vec![
+                Point2::new(x0, -1.0),
+                Point2::new(x0 + 1.0, -1.0),
+                Point2::new(x0 + 1.0, 1.0),
+                Point2::new(x0, 1.0),
+            ],
+            z_min: 0.0,
+            z_max: 1.0,
+            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
+        };
+        let robot = RobotCylinder {
+            radius,
+            height: 1.5,
+        };
+        let bounds =
+            Bounds::new(Point2::new(-5.0, -5.0), Point2::new(5.0, 5.0)).expect("valid bounds");
+        Validity::new(robot, bounds, &[square], ValidityConfig::default()).expect("valid world")
+    }
+
+    #[test]
+    fn a_line_enters_a_footprint_at_its_first_face_along_the_push() {
+        // Invariant: the distance along the line to the footprint is to the first face it crosses (the near one, whatever the vertices' order), and a line that passes beside the footprint or points away from it has none.
+        let square = [
+            Point2::new(2.0, 0.0),
+            Point2::new(3.0, 0.0),
+            Point2::new(3.0, 1.0),
+            Point2::new(2.0, 1.0),
+        ];
+        let along = Vector2::new(1.0, 0.0);
+        let t = entry_along(&square, &Point2::new(0.5, 0.4), &along).expect("enters");
+        assert!((t - 1.5).abs() < 1e-12, "{t}");
+        let reversed: Vec<_> = square.iter().rev().copied().collect();
+        let t = entry_along(&reversed, &Point2::new(0.5, 0.4), &along).expect("enters");
+        assert!((t - 1.5).abs() < 1e-12, "{t}");
+        assert_eq!(entry_along(&square, &Point2::new(0.5, 1.4), &along), None);
+        assert_eq!(entry_along(&square, &Point2::new(4.0, 0.4), &along), None);
+    }
+
+    #[test]
+    fn a_push_is_planned_from_where_the_robot_stands_free_else_from_the_nearest_free_spot() {
+        // Invariant: worlds in which the robot's spot is free are planned from that spot, the others left out; where it is free in none, each world is planned from a free spot within the escape radius.
+        let here = Point2::origin();
+        // The face 0.3 m ahead: a 0.25 m robot stands free, a 0.35 m one overlaps it by 5 cm.
+        let starts = push_starts(
+            &here,
+            vec![world_with_box(0.3, 0.35), world_with_box(0.3, 0.25)],
+        );
+        assert_eq!(starts.len(), 1);
+        assert_eq!(starts[0].1, here);
+        assert!((starts[0].0.robot().radius - 0.25).abs() < 1e-12);
+        let pressed = push_starts(
+            &here,
+            vec![world_with_box(0.3, 0.35), world_with_box(0.3, 0.33)],
+        );
+        assert_eq!(pressed.len(), 2);
+        for (world, from) in &pressed {
+            assert!(!world.is_free(&here));
+            assert!(world.is_free(from), "{from} is free");
+            assert!((from - here).norm() <= 0.25 + 1e-9);
+        }
+    }
 
     #[test]
     fn the_face_on_the_hands_line_is_the_nearest_point_ahead_within_the_hands_square() {

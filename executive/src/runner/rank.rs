@@ -45,7 +45,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 continue;
             };
             let extent = extent(p);
-            let why = if self.world.is_structure(p, &self.config) {
+            // A push test's finding outweighs how the object looks: one found movable (or moved by
+            // a push) that came to rest clear of everything else, beside a wall or at the edge of
+            // all that was seen, is pushed again while it is small enough. Resting against
+            // something, its outline may have taken that in, and it stays structure.
+            let moves = (self.world.movable.contains(&p.id) || self.world.moved.contains(&p.id))
+                && !self.world.rests_against_another(p);
+            let why = if !moves && self.world.is_structure(p, &self.config) {
                 SetAsideWhy::Structure
             } else if extent > limit {
                 SetAsideWhy::TooLarge { extent, limit }
