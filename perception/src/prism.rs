@@ -328,9 +328,8 @@ mod tests {
             let a = std::f64::consts::FRAC_PI_2 * f64::from(k) / 7.0;
             Point2::new(5.35 - 0.05 * a.cos(), 0.35 - 0.05 * a.sin())
         }));
-        let mut prism = square(0, 0.0, 0.0, 1.0);
         // Counter-clockwise: the right edge up, the top leftwards, the rounded corner down and back.
-        footprint.rotate_left(1);
+        let mut prism = square(0, 0.0, 0.0, 1.0);
         prism.footprint = footprint;
         let c = prism.centroid().expect("a footprint");
         let mean = prism.footprint.iter().map(|p| p.y).sum::<f64>() / prism.footprint.len() as f64;

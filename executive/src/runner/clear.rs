@@ -486,10 +486,10 @@ fn steer(yaw: f64, half_width: f64) -> f64 {
 /// back; turned 45°, the hand would meet the corner between two faces, where a lever along either
 /// one makes no sense. 30° keeps that corner 15° away: ICP reads the turn of a box seen in part up to
 /// 10° off (corridor runs against the simulation's truth), and a stroke turns it a few degrees more
-/// before the next reading. Beyond it the object is pushed through
-/// its centre, and the rest of its sweep is checked from where it is. (Held to 10° before, when
-/// the centre was the hull's vertices' mean, which lies off the middle of a face seen end-on: a
-/// lever about a wrong centre turned boxes further round.)
+/// before the next reading. Beyond it the object is pushed through its centre, and the rest of its
+/// sweep is checked from where it is. (Held to 10° before, when the centre was the hull's vertices'
+/// mean, which lies off the middle of a face seen end-on: a lever about a wrong centre turned boxes
+/// further round.)
 const STEER_WITHIN: f64 = 30.0 * std::f64::consts::PI / 180.0;
 
 /// The hand's sideways offset in `base_link` (clamped into the arm's sideways `reach`) for a stroke

@@ -600,12 +600,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use nudge_motion::{Bounds, RobotCylinder, Validity, ValidityConfig};
     use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
 
-    fn validity_with_box(x0: f64) -> Validity {
+    /// A world with a 1 m × 2 m box whose near face is `x0` ahead of the origin, for a robot of
+    /// radius `radius`.
+    pub(in crate::runner) fn validity_with_box(x0: f64, radius: f64) -> Validity {
         let square = Prism {
             id: ObjectId(1),
             footprint: vec![
@@ -619,7 +621,7 @@ mod tests {
             points: ColourCloud::empty(CloudFrame::Map, nalgebra::Isometry3::identity(), 0.0),
         };
         let robot = RobotCylinder {
-            radius: 0.35,
+            radius,
             height: 1.5,
         };
         let bounds =
@@ -632,7 +634,7 @@ mod tests {
         // Invariant: the escape point is free, within the escape radius, on the nearest ring that has one, and none is offered when the overlap is deeper than the radius.
         let here = Point2::origin();
         // The box's face is 0.3 m ahead: the 0.35 m disc overlaps it by 5 cm.
-        let v = validity_with_box(0.3);
+        let v = validity_with_box(0.3, 0.35);
         assert!(!v.is_free(&here));
         let p = nearest_free(&here, &v).expect("a free spot within reach");
         assert!(v.is_free(&p));
@@ -642,6 +644,6 @@ mod tests {
             "stepped {d} m, the first ring is free"
         );
         // The face 0.1 m behind the robot's centre: 0.45 m of overlap, more than the radius.
-        assert_eq!(nearest_free(&here, &validity_with_box(-0.1)), None);
+        assert_eq!(nearest_free(&here, &validity_with_box(-0.1, 0.35)), None);
     }
 }

@@ -347,9 +347,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             (Some(p), Some(view)) => Some(crop(view, p, slid_by, motion.crop_margin)),
             _ => None,
         };
-        let planned = self.contact_in_base(intent)?;
         let base_now = self.robot.base_pose()?.value;
-        let planned = base_now.inverse_transform_point(&(base_now * planned + slid_by));
+        let planned =
+            self.contact_in_base(intent)? + base_now.rotation.inverse_transform_vector(&slid_by);
         // The object's face on the hand's line as the look just taken shows it, where that is well
         // nearer than planned: a face planned on a hull's edge across a part never seen (a chair's back seen
         // only at its ends) may lie centimetres behind the real one, and a stroke started past the
@@ -869,31 +869,7 @@ fn push_starts(here: &Point2<f64>, validities: Vec<Validity>) -> Vec<(Validity, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nudge_motion::{Bounds, RobotCylinder, ValidityConfig};
-
-    /// A world with a 1 m × 2 m box whose near face is `x0` ahead of the origin, for a robot of
-    /// radius `radius`.
-    fn world_with_box(x0: f64, radius: f64) -> Validity {
-        let square = Prism {
-            id: ObjectId(1),
-            footprint: vec![
-                Point2::new(x0, -1.0),
-                Point2::new(x0 + 1.0, -1.0),
-                Point2::new(x0 + 1.0, 1.0),
-                Point2::new(x0, 1.0),
-            ],
-            z_min: 0.0,
-            z_max: 1.0,
-            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
-        };
-        let robot = RobotCylinder {
-            radius,
-            height: 1.5,
-        };
-        let bounds =
-            Bounds::new(Point2::new(-5.0, -5.0), Point2::new(5.0, 5.0)).expect("valid bounds");
-        Validity::new(robot, bounds, &[square], ValidityConfig::default()).expect("valid world")
-    }
+    use crate::runner::navigate::tests::validity_with_box as world_with_box;
 
     #[test]
     fn a_line_enters_a_footprint_at_its_first_face_along_the_push() {
