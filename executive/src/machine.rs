@@ -671,10 +671,13 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
         {
             return wait_for(id, k);
         }
-        // Nothing left to push, but something in the way moved lately: it may walk on.
+        // Nothing left to push, but something in the way moved lately: it may walk on. The run's
+        // waits bound these too: each look may find what moved as a new obstacle (ids are never
+        // reused), and a per-obstacle count alone looked again until the run's time ran out.
         if let Some(m) = list
             .iter()
             .find(|c| c.moved_lately && waited(&k, c.id) < config.passive_waits)
+            .filter(|_| waits < config.mover_waits)
         {
             return wait_for(m.id, k);
         }
@@ -683,8 +686,15 @@ fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {
     let tested_movable = tested_movable(candidate.id);
     // Something that may move by itself (seen moving lately, or movable on passive evidence alone,
     // as a person who stopped is) is looked at again before it is pushed.
+    // The run's waits bound these as well: what moved may be found anew, under a new id, by each
+    // look.
     let may_walk_on = candidate.moved_lately || candidate.passively_movable;
-    if may_walk_on && !tested_movable && waited(&k, candidate.id) < config.passive_waits {
+    let waits: u32 = k.waits.values().sum();
+    if may_walk_on
+        && !tested_movable
+        && waited(&k, candidate.id) < config.passive_waits
+        && waits < config.mover_waits
+    {
         return wait_for(candidate.id, k);
     }
     // A clearing push that moved the object as planned proved it movable, as a push test would; the
@@ -855,14 +865,17 @@ fn start_push_test(
 }
 
 /// Whether the last two tests of `target` (the retest just recorded and the test before it) both
-/// saw the object give way under the hand
-/// ([`crate::push_test::ClassifierConfig::gave_way`]).
+/// saw the object give way under the hand: pushed on for centimetres under the limit
+/// ([`crate::push_test::ClassifierConfig::gave_way`]), or slid with it before it jammed
+/// ([`crate::push_test::ClassifierConfig::slid_with_hand`]).
 fn gave_way_twice(tests: &[TestRecord], target: ObjectId, config: &ExecutiveConfig) -> bool {
     let mut last = tests.iter().rev().filter(|t| t.object == target).take(2);
+    let classifier = &config.classifier;
     let gave = |t: &TestRecord| {
-        config
-            .classifier
-            .gave_way(t.reached_limit, t.hand_travel_mm / 1e3)
+        let hand = t.hand_travel_mm / 1e3;
+        classifier.gave_way(t.reached_limit, hand)
+            || matches!(t.finding, Finding::Ambiguous(Ambiguity::MovedThenLimit { icp })
+                if classifier.slid_with_hand(icp, hand))
     };
     matches!((last.next(), last.next()), (Some(a), Some(b)) if gave(a) && gave(b))
 }

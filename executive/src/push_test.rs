@@ -4,9 +4,10 @@
 //! The paper's two clean cases: pushing the table, the force reached the 20 N limit while ICP read
 //! under 10 mm (static); pushing a chair, ICP read 189.3 mm against 182.2 mm of hand travel after
 //! contact (movable). Everything else is ambiguous and earns one retest; a second ambiguous reading is
-//! treated as static, and the verdict says so, unless in both tests the hand pushed on for centimetres
-//! with the force under the limit ([`ClassifierConfig::gave_way`]): then the object moved, whatever
-//! ICP could not measure.
+//! treated as static, and the verdict says so, unless in both tests the object gave way: the hand
+//! pushed on for centimetres with the force under the limit ([`ClassifierConfig::gave_way`]), or ICP
+//! saw the object slide with the hand for centimetres before it jammed
+//! ([`ClassifierConfig::slid_with_hand`]): then the object moved, whatever ICP could not measure.
 
 use nalgebra::{Isometry2, Unit, Vector2};
 use nudge_perception::ObjectId;
@@ -103,6 +104,21 @@ impl ClassifierConfig {
     /// could not confirm the motion twice: a second opinion, not the paper's first.
     pub fn gave_way(&self, reached_limit: bool, hand_travel: f64) -> bool {
         !reached_limit && hand_travel >= self.agreement_abs
+    }
+
+    /// Whether an ICP displacement agrees with the hand's travel after contact (both m): within
+    /// [`Self::agreement_abs`] or [`Self::agreement_rel`] of the travel, whichever is larger.
+    pub fn agrees(&self, icp: f64, hand_travel: f64) -> bool {
+        let tolerance = self.agreement_abs.max(self.agreement_rel * hand_travel);
+        (icp - hand_travel).abs() <= tolerance
+    }
+
+    /// Whether a test that moved the object and then reached the limit (an object that slid and
+    /// jammed against something) saw it slide with the hand for centimetres: ICP measured it move at
+    /// least [`Self::agreement_abs`], agreeing with the hand. A static object lets the hand on a
+    /// millimetre or two, and moves not at all.
+    pub fn slid_with_hand(&self, icp: f64, hand_travel: f64) -> bool {
+        icp >= self.agreement_abs && self.agrees(icp, hand_travel)
     }
 
     /// The lean of a stop that says the object may have tipped under the hand (rad): the stroke
@@ -232,10 +248,7 @@ pub fn classify(evidence: &PushEvidence, config: &ClassifierConfig) -> Finding {
             icp: icp.displacement,
         }),
         (true, false) => {
-            let tolerance = config
-                .agreement_abs
-                .max(config.agreement_rel * evidence.hand_travel);
-            if (icp.displacement - evidence.hand_travel).abs() <= tolerance {
+            if config.agrees(icp.displacement, evidence.hand_travel) {
                 Finding::Movable
             } else {
                 Finding::Ambiguous(Ambiguity::Disagreement {

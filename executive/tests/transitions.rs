@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 
 use nalgebra::Point2;
 use nalgebra::{Isometry2, Unit, Vector2};
-use nudge_executive::push_test::IcpReading;
+use nudge_executive::push_test::{Ambiguity, Finding, IcpReading};
 use nudge_executive::{
     AbortReason, Approach, Candidate, CandidatePolicy, Command, Edge, Event, ExecutiveConfig,
     Knowledge, Purpose, PushEvidence, PushIntent, Question, SetAside, SetAsideWhy, State, Step,
@@ -237,6 +237,24 @@ cases! {
         k.waits.insert(CHAIR, config().mover_waits);
         let s2 = run(State::SelectCandidate, &k, Event::CandidatesRanked { ranked: vec![person], set_aside: Vec::new() });
         assert_eq!(s2.state, State::PlanView { question: Question::Way });
+        s.edge
+    }
+    waits_for_what_moved_lately_end_with_the_runs_waits => {
+        // Invariant: an obstacle that moved lately is looked at again (when it is the only one left, or before it is pushed) only while the run's waits for movers last, however new the obstacle (each look may find what moved under a new id); then the robot asks where to look for a way, or pushes it.
+        let moved = Candidate { id: CHAIR, passively_movable: false, moved_lately: true, seen_moving: false };
+        let ranked = || Event::CandidatesRanked { ranked: vec![moved.clone()], set_aside: Vec::new() };
+        let mut k = with_static(CHAIR);
+        let s = run(State::SelectCandidate, &k, ranked());
+        assert_eq!((s.state.clone(), s.commands.clone()), (State::LookAround, vec![Command::LookAround]));
+        k.waits.insert(TABLE, config().mover_waits);
+        let s2 = run(State::SelectCandidate, &k, ranked());
+        assert_eq!(s2.state, State::PlanView { question: Question::Way });
+        // A candidate that moved lately is looked at again first, but not once the run's waits are spent.
+        let fresh = Knowledge::default();
+        assert_eq!(run(State::SelectCandidate, &fresh, ranked()).state, State::LookAround);
+        let mut spent = Knowledge::default();
+        spent.waits.insert(TABLE, config().mover_waits);
+        assert_eq!(run(State::SelectCandidate, &spent, ranked()).state, approach(CHAIR, Purpose::Test, Approach::Planning));
         s.edge
     }
     a_mover_is_never_push_tested => {
@@ -580,6 +598,19 @@ cases! {
         let jammed_first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(true, 0.002, 0.05)));
         let mixed = run(push_test(CHAIR, 2), &jammed_first.knowledge, Event::PushTestDone(slid));
         assert_eq!(mixed.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: true }));
+        s.edge
+    }
+    a_retest_that_slid_the_object_with_the_hand_before_it_jammed_counts_as_giving_way => {
+        // Invariant: a retest in which ICP saw the object slide centimetres with the hand (84 mm against 90 mm) before the force reached the limit gives way like a push through under the limit: after a first test that pushed through (ICP failing), the object is movable; a jam after 2 cm of sliding is no such evidence and the object stays static.
+        let mut slid = evidence(false, 0.177, 0.0);
+        slid.icp = None;
+        let first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(slid));
+        assert_eq!(first.state, push_test(CHAIR, 2));
+        let s = run(push_test(CHAIR, 2), &first.knowledge, Event::PushTestDone(evidence(true, 0.090, 0.084)));
+        assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Movable));
+        assert!(matches!(s.knowledge.explanation.tests[1].finding, Finding::Ambiguous(Ambiguity::MovedThenLimit { .. })));
+        let short = run(push_test(CHAIR, 2), &first.knowledge, Event::PushTestDone(evidence(true, 0.025, 0.020)));
+        assert_eq!(short.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: true }));
         s.edge
     }
     a_finished_clearing_push_looks_again => {

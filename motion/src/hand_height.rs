@@ -36,24 +36,38 @@ pub struct HandHeights {
 }
 
 /// The heights the hand pushes at on the face from `a` to `b` (outward normal `outward`) of
-/// `object`, whose cluster is `prism`; `None` when no part of the face is within the hand's reach.
+/// `object`, whose cluster is `prism`, with the hand's middle at `at` along the face (0 at `a`, 1 at
+/// `b`); `None` when no part of the face is within the hand's reach.
 ///
-/// The paper's height is the top of the surface facing the robot less a margin. Above the
-/// tipping-safe height it is lowered to the highest height at or below that one where the face is
-/// solid; a face solid only higher up (a chair's seat and back, a table's top) keeps the paper's.
+/// The paper's height is the top of the surface facing the robot, less a margin; where the face's
+/// points on the hand's line (within the hand's width of it) all lie below the hand at that height,
+/// the top of those instead. A face's top elsewhere along it is not the hand's: a chair seen from its
+/// side shows the end of its back 0.4 m higher than the seat under the hand's line, and a hand at the
+/// back's height passes over the seat and meets nothing. Above the tipping-safe height it is lowered
+/// to the highest height at or below that one where the face is solid; a face solid only higher up (a
+/// chair's seat and back, a table's top) keeps the paper's.
 pub fn hand_height_on(
     a: &Point2<f64>,
     b: &Point2<f64>,
     outward: &Unit<Vector2<f64>>,
+    at: f64,
     object: &Obstacle,
     prism: &Prism,
     config: &PushConfig,
 ) -> Option<HandHeights> {
-    let top = near_face(a, b, outward, prism, config)
-        .map(|(_, z)| z)
-        .fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
+    let face_top = highest(near_face(a, b, outward, prism, config).map(|(_, z)| z))
         .unwrap_or(object.z_max())
         .min(object.z_max());
+    let half = config.hand_half_width / (b - a).norm().max(1e-9);
+    let line_top = highest(
+        near_face(a, b, outward, prism, config)
+            .filter(|(t, _)| (t - at).abs() <= half)
+            .map(|(_, z)| z),
+    );
+    // The hand at the face's height spans down to its lower edge; a surface on its line lower than
+    // that, it passes over.
+    let hand_bottom = face_top - config.hand_below_top - config.hand_half_height;
+    let top = line_top.filter(|z| *z < hand_bottom).unwrap_or(face_top);
     let (low, high) = config.reach_z;
     let bottom = object.z_min().max(low);
     let paper = (top - config.hand_below_top).min(high);
@@ -74,6 +88,11 @@ pub fn hand_height_on(
     let solid = |h: f64| face.cover(h, config.hand_half_height / 2.0) >= SOLID_COVER;
     let below = heights_down(safe.min(paper), bottom, step).find(|h| solid(*h));
     Some(heights(below.unwrap_or(paper)))
+}
+
+/// The largest of `zs`, if any.
+fn highest(zs: impl Iterator<Item = f64>) -> Option<f64> {
+    zs.fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
 }
 
 /// How deep the footprint reaches behind the face through `a` with outward normal `outward` (m).
@@ -210,6 +229,7 @@ mod tests {
             &f[3],
             &f[0],
             &outward,
+            0.5,
             &object,
             prism,
             &PushConfig {
@@ -241,7 +261,7 @@ mod tests {
         let f = &prism.footprint;
         let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
         let config = PushConfig::default();
-        let h = hand_height_on(&f[3], &f[0], &outward, &object, &prism, &config)
+        let h = hand_height_on(&f[3], &f[0], &outward, 0.5, &object, &prism, &config)
             .expect("a face within reach");
         assert!((h.test - h.clear).abs() < 1e-12, "{h:?}");
         assert!(
@@ -261,6 +281,34 @@ mod tests {
             (0.6..=0.72).contains(&h),
             "pushed at {h} m, off the table's top"
         );
+    }
+
+    #[test]
+    fn a_chair_seen_from_its_side_is_pushed_at_its_seat_not_its_backs_height() {
+        // Invariant: the hand's height follows the face's top on the hand's own line; the end of a chair's back elsewhere along the face does not lift it over the seat.
+        let seat_top = 0.45;
+        // The side of a chair 0.5 m deep: its back's end (2 cm) at y = 0.4 rises to 0.85 m, the
+        // seat's edge (4 cm) runs along the whole side, legs at both ends below it.
+        let prism = prism_with_face((3.0, 3.5), (0.4, 0.9), 0.85, |y, z| {
+            let back = y <= 0.42;
+            let seat = (seat_top - 0.04..=seat_top).contains(&z);
+            let leg = z < seat_top && !(0.44..=0.86).contains(&y);
+            back || seat || leg
+        });
+        let object = Obstacle::from_prism(&prism).expect("a valid prism");
+        let f = &prism.footprint;
+        let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
+        let config = PushConfig::default();
+        let at = |t: f64| {
+            hand_height_on(&f[3], &f[0], &outward, t, &object, &prism, &config)
+                .expect("a face within reach")
+                .clear
+        };
+        let under_seat = seat_top - config.hand_below_top;
+        assert!((at(0.5) - under_seat).abs() < 0.021, "middle: {}", at(0.5));
+        assert!((at(0.3) - under_seat).abs() < 0.021, "at 0.3: {}", at(0.3));
+        // On the back's end the hand meets the back.
+        assert!((at(1.0) - (0.85 - config.hand_below_top)).abs() < 0.021);
     }
 
     #[test]

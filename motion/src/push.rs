@@ -553,7 +553,9 @@ struct Face {
     a: Point2<f64>,
     b: Point2<f64>,
     direction: Unit<Vector2<f64>>,
-    heights: HandHeights,
+    /// The hand's heights with its middle at each of [`PushConfig::contact_fractions`] along the
+    /// face, in that order (`None` where the face there is out of the hand's reach).
+    heights: Vec<Option<HandHeights>>,
 }
 
 fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<Face> {
@@ -567,9 +569,14 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
         let edge = b - a;
         // Counter-clockwise footprint: the outward normal is the edge turned clockwise.
         let outward = Unit::new_normalize(Vector2::new(edge.y, -edge.x));
-        let Some(heights) = hand_height_on(&a, &b, &outward, object, prism, config) else {
+        let heights: Vec<Option<HandHeights>> = config
+            .contact_fractions
+            .iter()
+            .map(|&t| hand_height_on(&a, &b, &outward, t, object, prism, config))
+            .collect();
+        if heights.iter().all(Option::is_none) {
             continue;
-        };
+        }
         let face = Face {
             object: object.id(),
             a,
@@ -649,7 +656,10 @@ fn stance_for(
         (0..=steps.max(-1.0) as i64).map(|k| min_standoff + k as f64 * config.standoff_step);
     let mut miss = Miss::Blocked(None);
     for standoff in standoffs {
-        for &t in &config.contact_fractions {
+        for (&t, heights) in config.contact_fractions.iter().zip(&face.heights) {
+            let Some(heights) = *heights else {
+                continue;
+            };
             let contact = face.a + (face.b - face.a) * t;
             for &lateral in &config.lateral_offsets {
                 // The hand is at -lateral in base_link y when the body is shifted by +lateral.
@@ -658,7 +668,7 @@ fn stance_for(
                 }
                 let stand = contact - d * standoff + tangent * lateral;
                 if !validity.is_free(&stand)
-                    || !hand_line_clear(face, &contact, standoff, validity, config)
+                    || !hand_line_clear(face, &contact, &heights, standoff, validity, config)
                 {
                     continue;
                 }
@@ -670,7 +680,7 @@ fn stance_for(
                     direction: face.direction,
                     stand,
                     contact,
-                    heights: face.heights,
+                    heights,
                 });
             }
         }
@@ -684,6 +694,7 @@ fn stance_for(
 fn hand_line_clear(
     face: &Face,
     contact: &Point2<f64>,
+    heights: &HandHeights,
     standoff: f64,
     validity: &Validity,
     config: &PushConfig,
@@ -697,8 +708,7 @@ fn hand_line_clear(
         .iter()
         .filter(|o| o.id() != face.object)
         .filter(|o| {
-            let h = face.heights;
-            [h.test, h.clear]
+            [heights.test, heights.clear]
                 .iter()
                 .any(|z| o.z_min() <= *z && *z <= o.z_max())
         })
@@ -1048,7 +1058,8 @@ mod tests {
             faces
                 .iter()
                 .find(|f| f.direction.into_inner().dot(&dir) > 0.99)
-                .map(|f| f.heights.clear)
+                .and_then(|f| f.heights[0])
+                .map(|h| h.clear)
                 .expect("a face for this direction")
         };
         // Robot behind the backrest (at x > 0.5) pushes toward -x: backrest top 0.85.
@@ -1061,7 +1072,12 @@ mod tests {
             ..prism
         };
         let faces = pushable_faces(&obstacle, &bare, &config);
-        assert!(faces.iter().all(|f| (f.heights.clear - 0.80).abs() < 1e-6));
+        assert!(faces.iter().all(|f| {
+            f.heights
+                .iter()
+                .flatten()
+                .all(|h| (h.clear - 0.80).abs() < 1e-6)
+        }));
     }
 
     #[test]

@@ -50,6 +50,14 @@ impl Prism {
         polygon_centroid(&self.footprint)
     }
 
+    /// The footprint's extent: the largest distance between two of its vertices (m).
+    pub fn extent(&self) -> f64 {
+        let f = &self.footprint;
+        f.iter()
+            .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
+            .fold(0.0, f64::max)
+    }
+
     /// Height of the prism's top above the floor (m); the same as `z_max`.
     pub fn top(&self) -> f64 {
         self.z_max

@@ -69,14 +69,14 @@ impl WorldModel {
                     // Their hull adds no more than a strip of the surface gap along it: pieces of one
                     // run, not two walls meeting at a corner (whose hull is a triangle of floor).
                     let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint);
-                    if added > SURFACE_GAP * extent(&hull) / 2.0 {
+                    if added > SURFACE_GAP * hull.extent() / 2.0 {
                         continue;
                     }
                     // Pieces of one object's surfaces (a table's edge seen from 4 m, floor showing
                     // under its top): points within the sensor's spacing, and together no larger
                     // than an object to push (a chair beside a wall stays a chair).
                     let one_surface = apart <= SURFACE_GAP
-                        && extent(&hull) <= config.max_candidate_extent
+                        && hull.extent() <= config.max_candidate_extent
                         && points_within(a, b, SURFACE_GAP);
                     let touching = || apart <= gap && !self.floor_between(a, b, floor, config);
                     if !one_surface && !touching() {
@@ -201,7 +201,7 @@ impl WorldModel {
 fn one_object_l(a: &Prism, b: &Prism, robot: &Point2<f64>, config: &RunConfig) -> bool {
     let top_in_view =
         |p: &Prism| p.z_max + TOP_MARGIN < config.top_in_view(super::world::far_side(p, robot));
-    extent(&outline_of_both(a, b)) <= config.max_candidate_extent
+    outline_of_both(a, b).extent() <= config.max_candidate_extent
         && (a.z_max - b.z_max).abs() <= TOP_MARGIN
         && top_in_view(a)
         && top_in_view(b)
@@ -227,7 +227,7 @@ pub(super) fn structure_corner(a: &Prism, b: &Prism, max_extent: f64) -> bool {
     let hull = outline_of_both(a, b);
     let overlap = nudge_perception::prism::convex_intersection_area(&a.footprint, &b.footprint);
     let added = area(&hull.footprint) - area(&a.footprint) - area(&b.footprint) + overlap;
-    added > SURFACE_GAP * extent(&hull) / 2.0 && extent(&hull) > max_extent
+    added > SURFACE_GAP * hull.extent() / 2.0 && hull.extent() > max_extent
 }
 
 /// The convex hull of `a`'s and `b`'s footprints as a prism of `a`'s heights with no points: their
@@ -333,14 +333,6 @@ fn area(f: &[Point2<f64>]) -> f64 {
         .sum::<f64>()
         .abs()
         / 2.0
-}
-
-/// Largest distance between two footprint vertices (m).
-fn extent(prism: &Prism) -> f64 {
-    let f = &prism.footprint;
-    f.iter()
-        .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
-        .fold(0.0, f64::max)
 }
 
 /// Gap (m) within which two pieces may be one thing when there is no grid to say its cell size.

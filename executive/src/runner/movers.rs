@@ -51,6 +51,15 @@ const ARRIVED_POINTS: usize = 30;
 /// third, the shipped batch of 30 seeds ran every room without people as before.
 const ARRIVED_ON_FREE: f64 = 1.0 / 3.0;
 
+/// The most an obstacle may measure across (m, its footprint's extent) to have come by itself onto
+/// floor the grid saw free ([`ARRIVED_ON_FREE`]): what one or two people standing together occupy.
+/// An adult's shoulders are 0.4–0.5 m across (the 95th percentile's biacromial breadth is 0.43 m;
+/// with the arms, 0.5–0.6 m), two side by side 1.2 m. Anything longer seen on floor the grid held
+/// free is a thin surface seen obliquely — a wall whose hull is a wedge over the floor in front of it
+/// (1.35 m in one generated room), or the room's own wall, whose face cells the grid saw crossed by
+/// grazing rays (4 m in another) — and taken for a person, it shut off every push near it.
+const PERSON_EXTENT: f64 = 1.2;
+
 /// How far outside a footprint an arrived point still counts as the obstacle's (m): the footprint is
 /// a hull of 4 cm elevation cells, and its own points lie up to a cell from its outline.
 const ARRIVAL_REACH: f64 = 0.05;
@@ -222,12 +231,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Notes as arrivals the obstacles the look found standing on floor the grid saw free before
-    /// (at least [`ARRIVED_ON_FREE`] of their cells): nothing the robot tested or moved, so something
-    /// that came by itself or was brought — a person, or what a person left (which passive evidence
-    /// then calls movable, and which stays a candidate for a push).
+    /// (at least [`ARRIVED_ON_FREE`] of their cells): nothing the robot tested or moved, no larger
+    /// than people ([`PERSON_EXTENT`]), so something that came by itself or was brought — a person,
+    /// or what a person left (which passive evidence then calls movable, and which stays a
+    /// candidate for a push).
     pub(crate) fn note_arrived_on_free_floor(&mut self) {
         let arrived: Vec<ObjectId> = self.untouched(|p| {
-            !self.world.arrivals.contains(&p.id) && self.world.free_share(p) >= ARRIVED_ON_FREE
+            !self.world.arrivals.contains(&p.id)
+                && came_onto_free_floor(p, || self.world.free_share(p))
         });
         self.world.arrivals.extend(arrived);
     }
@@ -407,4 +418,46 @@ fn seen_through_share(prism: &Prism, changes: &LookChanges) -> f64 {
         }
     }
     through as f64 / asked.max(1) as f64
+}
+
+/// Whether an obstacle no larger than people ([`PERSON_EXTENT`]) stands on floor the grid saw free
+/// before, at least [`ARRIVED_ON_FREE`] of its cells (`free_share`, asked only of such obstacles).
+fn came_onto_free_floor(prism: &Prism, free_share: impl FnOnce() -> f64) -> bool {
+    prism.extent() <= PERSON_EXTENT && free_share() >= ARRIVED_ON_FREE
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Isometry3, Point2};
+    use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
+
+    use super::came_onto_free_floor;
+
+    /// A prism over the box `[x0, x1] × [y0, y1]`, 1.7 m tall, without points.
+    fn prism(x: (f64, f64), y: (f64, f64)) -> Prism {
+        Prism {
+            id: ObjectId(1),
+            footprint: vec![
+                Point2::new(x.0, y.0),
+                Point2::new(x.1, y.0),
+                Point2::new(x.1, y.1),
+                Point2::new(x.0, y.1),
+            ],
+            z_min: 0.0,
+            z_max: 1.7,
+            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
+        }
+    }
+
+    #[test]
+    fn only_something_the_size_of_people_comes_by_itself_onto_free_floor() {
+        // Invariant: a person-sized obstacle (a 0.5 m arc seen from one side) on floor the grid saw free (a third or more of its cells) has arrived; a 4 m wall, or a 1.35 m wedge of a wall seen obliquely, on as much free floor has not, and neither has a person-sized one on floor mostly unseen free.
+        let person = prism((2.0, 2.5), (1.0, 1.2));
+        assert!(came_onto_free_floor(&person, || 0.5));
+        assert!(!came_onto_free_floor(&person, || 0.1));
+        let wall = prism((1.6, 5.7), (-0.02, 0.03));
+        assert!(!came_onto_free_floor(&wall, || 0.36));
+        let wedge = prism((4.12, 4.75), (3.67, 4.91));
+        assert!(!came_onto_free_floor(&wedge, || 0.47));
+    }
 }

@@ -2,7 +2,7 @@
 
 use nalgebra::Point2;
 use nudge_motion::blocking_obstacles;
-use nudge_perception::{ObjectId, Prism};
+use nudge_perception::ObjectId;
 
 use super::world::WorldModel;
 use super::{Interrupt, Runner};
@@ -10,14 +10,6 @@ use crate::config::CandidatePolicy;
 use crate::event::{Candidate, Event, SetAside, SetAsideWhy};
 use crate::record::Observer;
 use crate::robot::Robot;
-
-/// Largest distance between two footprint vertices (m).
-fn extent(prism: &Prism) -> f64 {
-    let f = &prism.footprint;
-    f.iter()
-        .flat_map(|a| f.iter().map(move |b| (a - b).norm()))
-        .fold(0.0, f64::max)
-}
 
 impl<R: Robot, O: Observer> Runner<R, O> {
     /// Ranks the pushable obstacles: nearest first, or those whose removal opens the cheapest path first.
@@ -44,7 +36,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             let Some(obstacle) = validity.obstacle(p.id) else {
                 continue;
             };
-            let extent = extent(p);
+            let extent = p.extent();
             // A push test's finding outweighs how the object looks: one found movable (or moved by
             // a push) that came to rest clear of everything else, beside a wall or at the edge of
             // all that was seen, is pushed again while it is small enough. Resting against
