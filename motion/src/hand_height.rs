@@ -36,8 +36,8 @@ pub struct HandHeights {
 }
 
 /// The heights the hand pushes at on the face from `a` to `b` (outward normal `outward`) of
-/// `object`, whose cluster is `prism`, with the hand's middle at `at` along the face (0 at `a`, 1 at
-/// `b`); `None` when no part of the face is within the hand's reach.
+/// `object`, whose cluster is `prism`, with the hand's middle at each of `ats` along the face (0 at
+/// `a`, 1 at `b`), in that order; `None` where no part of the face is within the hand's reach.
 ///
 /// The paper's height is the top of the surface facing the robot, less a margin; where the face's
 /// points on the hand's line (within the hand's width of it) all lie below the hand at that height,
@@ -46,48 +46,55 @@ pub struct HandHeights {
 /// back's height passes over the seat and meets nothing. Above the tipping-safe height it is lowered
 /// to the highest height at or below that one where the face is solid; a face solid only higher up (a
 /// chair's seat and back, a table's top) keeps the paper's.
-pub fn hand_height_on(
+pub fn hand_heights_on(
     a: &Point2<f64>,
     b: &Point2<f64>,
     outward: &Unit<Vector2<f64>>,
-    at: f64,
+    ats: &[f64],
     object: &Obstacle,
     prism: &Prism,
     config: &PushConfig,
-) -> Option<HandHeights> {
-    let face_top = highest(near_face(a, b, outward, prism, config).map(|(_, z)| z))
+) -> Vec<Option<HandHeights>> {
+    // The face's points, gathered once for every place along it the hand is asked about.
+    let near: Vec<(f64, f64)> = near_face(a, b, outward, prism, config).collect();
+    let face_top = highest(near.iter().map(|(_, z)| *z))
         .unwrap_or(object.z_max())
         .min(object.z_max());
-    let half = config.hand_half_width / (b - a).norm().max(1e-9);
-    let line_top = highest(
-        near_face(a, b, outward, prism, config)
-            .filter(|(t, _)| (t - at).abs() <= half)
-            .map(|(_, z)| z),
-    );
     // The hand at the face's height spans down to its lower edge; a surface on its line lower than
     // that, it passes over.
     let hand_bottom = face_top - config.hand_below_top - config.hand_half_height;
-    let top = line_top.filter(|z| *z < hand_bottom).unwrap_or(face_top);
+    let half = config.hand_half_width / (b - a).norm().max(1e-9);
     let (low, high) = config.reach_z;
     let bottom = object.z_min().max(low);
-    let paper = (top - config.hand_below_top).min(high);
-    if paper < bottom {
-        return None;
-    }
     let safe = depth_along(object.footprint(), a, outward) / (2.0 * config.max_floor_friction);
-    let heights = |test| HandHeights { test, clear: paper };
-    if !config.test_below_tipping || paper <= safe {
-        return Some(heights(paper));
-    }
     // Only a face that may be pushed lower is cut into slots: planning asks every face of every
-    // candidate, and most never get here.
-    let face = FacePoints::near(a, b, outward, prism, config);
-    let step = config.hand_half_height;
-    // The middle half of the hand on the surface: a thin edge (a chair's seat) caught by the
-    // hand's rim turns the push into a lift.
-    let solid = |h: f64| face.cover(h, config.hand_half_height / 2.0) >= SOLID_COVER;
-    let below = heights_down(safe.min(paper), bottom, step).find(|h| solid(*h));
-    Some(heights(below.unwrap_or(paper)))
+    // candidate, and most never need it.
+    let mut slotted: Option<FacePoints> = None;
+    ats.iter()
+        .map(|&at| {
+            let line_top = highest(
+                near.iter()
+                    .filter(|(t, _)| (t - at).abs() <= half)
+                    .map(|(_, z)| *z),
+            );
+            let top = line_top.filter(|z| *z < hand_bottom).unwrap_or(face_top);
+            let paper = (top - config.hand_below_top).min(high);
+            if paper < bottom {
+                return None;
+            }
+            let heights = |test| HandHeights { test, clear: paper };
+            if !config.test_below_tipping || paper <= safe {
+                return Some(heights(paper));
+            }
+            let face = slotted.get_or_insert_with(|| FacePoints::near(a, b, &near, config));
+            // The middle half of the hand on the surface: a thin edge (a chair's seat) caught by
+            // the hand's rim turns the push into a lift.
+            let solid = |h: f64| face.cover(h, config.hand_half_height / 2.0) >= SOLID_COVER;
+            let below =
+                heights_down(safe.min(paper), bottom, config.hand_half_height).find(|h| solid(*h));
+            Some(heights(below.unwrap_or(paper)))
+        })
+        .collect()
 }
 
 /// The largest of `zs`, if any.
@@ -140,18 +147,13 @@ fn near_face<'a>(
 }
 
 impl FacePoints {
-    /// The points near the face from `a` to `b` ([`near_face`]), the face cut into slots of the
-    /// footprint's cell (the finest width perception resolves).
-    fn near(
-        a: &Point2<f64>,
-        b: &Point2<f64>,
-        outward: &Unit<Vector2<f64>>,
-        prism: &Prism,
-        config: &PushConfig,
-    ) -> Self {
+    /// The face from `a` to `b` cut into slots of the footprint's cell (the finest width perception
+    /// resolves), with its points `near` it ([`near_face`]: where along it, how high).
+    fn near(a: &Point2<f64>, b: &Point2<f64>, near: &[(f64, f64)], config: &PushConfig) -> Self {
         let slots = (((b - a).norm() / config.footprint_cell).ceil() as usize).max(1);
-        let points = near_face(a, b, outward, prism, config)
-            .map(|(t, z)| {
+        let points = near
+            .iter()
+            .map(|&(t, z)| {
                 let slot = (t.clamp(0.0, 1.0) * slots as f64) as usize;
                 (slot.min(slots - 1), z)
             })
@@ -225,18 +227,18 @@ mod tests {
         let f = &prism.footprint;
         let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
         // The face runs from (x0, y1) to (x0, y0) counter-clockwise.
-        hand_height_on(
+        hand_heights_on(
             &f[3],
             &f[0],
             &outward,
-            0.5,
+            &[0.5],
             &object,
             prism,
             &PushConfig {
                 test_below_tipping: true,
                 ..PushConfig::default()
             },
-        )
+        )[0]
         .map(|h| h.test)
     }
 
@@ -261,7 +263,7 @@ mod tests {
         let f = &prism.footprint;
         let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
         let config = PushConfig::default();
-        let h = hand_height_on(&f[3], &f[0], &outward, 0.5, &object, &prism, &config)
+        let h = hand_heights_on(&f[3], &f[0], &outward, &[0.5], &object, &prism, &config)[0]
             .expect("a face within reach");
         assert!((h.test - h.clear).abs() < 1e-12, "{h:?}");
         assert!(
@@ -300,7 +302,7 @@ mod tests {
         let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
         let config = PushConfig::default();
         let at = |t: f64| {
-            hand_height_on(&f[3], &f[0], &outward, t, &object, &prism, &config)
+            hand_heights_on(&f[3], &f[0], &outward, &[t], &object, &prism, &config)[0]
                 .expect("a face within reach")
                 .clear
         };

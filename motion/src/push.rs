@@ -14,7 +14,7 @@ use nudge_perception::{ObjectId, Prism};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::hand_height::{HandHeights, hand_height_on};
+use crate::hand_height::{HandHeights, hand_heights_on};
 use crate::obstacle::Obstacle;
 use crate::path::Path;
 use crate::planner::rrt_connect::RrtConnect;
@@ -59,7 +59,7 @@ pub struct PushConfig {
     /// Half the width of the hand (m): its way to the contact keeps this clear of other obstacles.
     pub hand_half_width: f64,
     /// Half the height of the hand (m): the band of a face it presses on, and the step in which
-    /// [`hand_height_on`] looks for a solid band.
+    /// [`hand_heights_on`] looks for a solid band.
     pub hand_half_height: f64,
     /// Most that furniture's feet grip a floor (μ): rubber on dry tile or concrete reaches about 0.8
     /// in handbook tables, wood, plastic and metal on floors 0.2–0.6. It bounds the height at which
@@ -569,11 +569,15 @@ fn pushable_faces(object: &Obstacle, prism: &Prism, config: &PushConfig) -> Vec<
         let edge = b - a;
         // Counter-clockwise footprint: the outward normal is the edge turned clockwise.
         let outward = Unit::new_normalize(Vector2::new(edge.y, -edge.x));
-        let heights: Vec<Option<HandHeights>> = config
-            .contact_fractions
-            .iter()
-            .map(|&t| hand_height_on(&a, &b, &outward, t, object, prism, config))
-            .collect();
+        let heights = hand_heights_on(
+            &a,
+            &b,
+            &outward,
+            &config.contact_fractions,
+            object,
+            prism,
+            config,
+        );
         if heights.iter().all(Option::is_none) {
             continue;
         }

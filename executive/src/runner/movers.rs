@@ -428,36 +428,18 @@ fn came_onto_free_floor(prism: &Prism, free_share: impl FnOnce() -> f64) -> bool
 
 #[cfg(test)]
 mod tests {
-    use nalgebra::{Isometry3, Point2};
-    use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
-
     use super::came_onto_free_floor;
-
-    /// A prism over the box `[x0, x1] × [y0, y1]`, 1.7 m tall, without points.
-    fn prism(x: (f64, f64), y: (f64, f64)) -> Prism {
-        Prism {
-            id: ObjectId(1),
-            footprint: vec![
-                Point2::new(x.0, y.0),
-                Point2::new(x.1, y.0),
-                Point2::new(x.1, y.1),
-                Point2::new(x.0, y.1),
-            ],
-            z_min: 0.0,
-            z_max: 1.7,
-            points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
-        }
-    }
+    use crate::runner::world::tests::box_prism;
 
     #[test]
     fn only_something_the_size_of_people_comes_by_itself_onto_free_floor() {
         // Invariant: a person-sized obstacle (a 0.5 m arc seen from one side) on floor the grid saw free (a third or more of its cells) has arrived; a 4 m wall, or a 1.35 m wedge of a wall seen obliquely, on as much free floor has not, and neither has a person-sized one on floor mostly unseen free.
-        let person = prism((2.0, 2.5), (1.0, 1.2));
+        let person = box_prism(1, (2.0, 1.0, 2.5, 1.2), 1.7);
         assert!(came_onto_free_floor(&person, || 0.5));
         assert!(!came_onto_free_floor(&person, || 0.1));
-        let wall = prism((1.6, 5.7), (-0.02, 0.03));
+        let wall = box_prism(2, (1.6, -0.02, 5.7, 0.03), 2.0);
         assert!(!came_onto_free_floor(&wall, || 0.36));
-        let wedge = prism((4.12, 4.75), (3.67, 4.91));
+        let wedge = box_prism(3, (4.12, 3.67, 4.75, 4.91), 2.0);
         assert!(!came_onto_free_floor(&wedge, || 0.47));
     }
 }
