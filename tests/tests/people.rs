@@ -63,3 +63,9 @@ fn a_person_pacing_past_the_barrier_is_never_push_tested_or_touched() {
     // Invariant: with a person pacing between the robot and the barrier for the whole run (they stop short of the robot and wait, as people do), the robot reaches the goal without push-testing them (every verdict right against the truth: a person would read static) and without touching them, and keeps no ghost.
     assert_safe_and_clean("person-pacing", 1);
 }
+
+#[test]
+fn a_walk_the_pacer_blocks_is_waited_out_and_not_held_against_the_object() {
+    // Invariant: when the pacer steps into the robot's way to a push pose and the base stops short, the robot waits for them and walks on (Miyazaki's stop and return) rather than counting the object's approach as blocked (on seed 10 two such blocks per chair once left no candidate and ended in no path): it reaches the goal, touches nobody, keeps no ghost and judges every object right.
+    assert_safe_and_clean("person-pacing", 10);
+}

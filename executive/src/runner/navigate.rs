@@ -233,9 +233,36 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
         let from = self.position()?;
         self.robot.start_walk(rest)?;
+        // Someone who stopped the base is waited for while the walk is young: a walk stopped again
+        // and again by people standing in its way (they yield to the robot as it yields to them)
+        // ends blocked, and the machine looks and plans anew.
+        let walk_started = self.robot.elapsed();
         let mut next_frame = self.robot.now() + self.config.grid.watch_period;
         loop {
             if let ActionStatus::Done(outcome) = self.robot.walk_status()? {
+                // A walk the base stopped short, with someone moving just ahead, was blocked by
+                // them, not by what it walks to: wait for them as the search space does, then walk
+                // on (Miyazaki et al.: stop, let them pass, return to the path).
+                if matches!(outcome, WalkOutcome::Blocked { .. })
+                    && self.people_about()
+                    && self.robot.elapsed() - walk_started < super::search_space::PERSON_WAIT
+                    && let Some(rest) = self.blocked_by_someone(waypoints)?
+                {
+                    if !self.wait_for_clear_way(waypoints)? {
+                        return Ok(Watched::Replan(format!(
+                            "someone moving stood in the way ahead for {:.0} s",
+                            super::search_space::PERSON_WAIT
+                        )));
+                    }
+                    let here = self.position()?;
+                    let rest_now = super::unseen::rest_of_path(waypoints, here);
+                    if rest_now.len() < 2 || rest.len() < 2 {
+                        return Ok(Watched::Walked(WalkOutcome::Arrived));
+                    }
+                    self.robot.start_walk(&rest_now[1..])?;
+                    next_frame = self.robot.now() + self.config.grid.watch_period;
+                    continue;
+                }
                 self.note_stuck(from, &outcome)?;
                 return Ok(Watched::Walked(outcome));
             }
@@ -275,6 +302,20 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             self.tick()?;
         }
+    }
+
+    /// The rest of `waypoints` from where the robot stands, when a fresh frame shows something moving
+    /// in the search space ahead along it (see [`Self::search_space_occupied`]); `None` otherwise.
+    fn blocked_by_someone(
+        &mut self,
+        waypoints: &[Point2<f64>],
+    ) -> Result<Option<Vec<Point2<f64>>>, Interrupt> {
+        let cloud = self.robot.capture()?;
+        self.observer.cloud(&cloud);
+        self.sense(&cloud, true);
+        let here = self.position()?;
+        let ahead = super::unseen::rest_of_path(waypoints, here);
+        Ok(self.search_space_occupied(&ahead).then_some(ahead))
     }
 
     /// Stops the walk along `waypoints` and waits, taking a frame into the grid every watch period,
