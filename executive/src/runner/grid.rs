@@ -613,12 +613,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         })
     }
 
-    /// Whether passive evidence alone says `prism` is movable (it was seen moving and came to rest).
+    /// Whether passive evidence alone says `prism` is movable (it was seen moving and came to rest),
+    /// unless it is someone keeping their distance from the robot
+    /// ([`Self::keeps_its_distance`]): to the passive rules a person standing still reads as a
+    /// thing moved and left.
     pub(crate) fn passively_movable(&self, prism: &Prism) -> bool {
         self.world
             .grid
             .as_ref()
             .is_some_and(|g| passive_movable_share(g, prism) >= self.config.grid.passive_share)
+            && !self.keeps_its_distance(prism)
     }
 }
 

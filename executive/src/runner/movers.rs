@@ -142,6 +142,23 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.untouched(|p| self.seen_moving(p) && !self.passively_movable(p))
     }
 
+    /// Whether `prism` is someone keeping their distance from the robot: a look saw it arrive
+    /// ([`super::world::WorldModel::arrivals`]), and it stands within [`PERSON_CLEARANCE`] of the
+    /// robot's body where the robot took its last look. People who find the robot in their way stop
+    /// at the edge of its intimate zone (Hall's 0.45 m) and wait there; the grid's passive rules read
+    /// them as something moved and left at rest, like a cart left behind, and a clearing stroke
+    /// would push them (`wanderers-032` seed 35: someone stood 0.23 m off the body for over 30 s
+    /// while the robot looked and waited, and was pushed). What a person leaves behind they leave
+    /// where they want it, not at arm's length of a robot standing there.
+    pub(crate) fn keeps_its_distance(&self, prism: &Prism) -> bool {
+        stands_off(
+            prism,
+            self.world.arrivals.contains(&prism.id),
+            self.world.looks.last(),
+            self.config.model.body.radius,
+        )
+    }
+
     /// The obstacles that the robot has not tested, found static or moved, and that pass `test`.
     fn untouched(&self, test: impl Fn(&Prism) -> bool) -> Vec<ObjectId> {
         self.world
@@ -426,9 +443,29 @@ fn came_onto_free_floor(prism: &Prism, free_share: impl FnOnce() -> f64) -> bool
     prism.extent() <= PERSON_EXTENT && free_share() >= ARRIVED_ON_FREE
 }
 
+/// Whether `prism`, which `arrived` or not, stands within [`PERSON_CLEARANCE`] of the body (of
+/// `radius`) of a robot standing at `robot` (see [`Runner::keeps_its_distance`]).
+fn stands_off(prism: &Prism, arrived: bool, robot: Option<&Point2<f64>>, radius: f64) -> bool {
+    arrived && robot.is_some_and(|at| prism.distance_xy(at) - radius < PERSON_CLEARANCE)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::came_onto_free_floor;
+    use super::{came_onto_free_floor, stands_off};
+    use nalgebra::Point2;
+
+    #[test]
+    fn someone_who_arrived_and_stands_at_arms_length_of_the_robot_keeps_their_distance() {
+        // Invariant: an obstacle a look saw arrive that stands within 0.45 m of the robot's body (someone who stopped for it) keeps their distance; one that arrived but stands 1.3 m off the body (a cart left in a doorway) does not, nor does one as near that never arrived (furniture beside the robot), nor any when the robot has not looked yet.
+        let robot = Point2::new(1.0, 1.0);
+        let radius = 0.3;
+        let person = box_prism(1, (1.5, 0.8, 1.9, 1.2), 1.7);
+        assert!(stands_off(&person, true, Some(&robot), radius));
+        assert!(!stands_off(&person, false, Some(&robot), radius));
+        assert!(!stands_off(&person, true, None, radius));
+        let cart = box_prism(2, (2.6, 0.75, 3.1, 1.25), 1.0);
+        assert!(!stands_off(&cart, true, Some(&robot), radius));
+    }
     use crate::runner::world::tests::box_prism;
 
     #[test]
