@@ -516,6 +516,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.world.take_in_faces_of(id, &here, &self.config);
         }
         let before = self.world.prisms.iter().find(|p| p.id == id).cloned();
+        if let Some(before) = &before {
+            self.world
+                .shed_points_of(before, self.config.perception.prism.min_thickness);
+        }
         self.world.move_rigidly(id, motion);
         let after = self.world.prisms.iter().find(|p| p.id == id).cloned();
         let (Some(before), Some(after), Some(grid)) = (before, after, self.world.grid.as_mut())
