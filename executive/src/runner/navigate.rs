@@ -246,20 +246,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 if matches!(outcome, WalkOutcome::Blocked { .. })
                     && self.people_about()
                     && self.robot.elapsed() - walk_started < super::search_space::PERSON_WAIT
-                    && let Some(rest) = self.blocked_by_someone(waypoints)?
+                    && self.blocked_by_someone(waypoints)?
                 {
-                    if !self.wait_for_clear_way(waypoints)? {
-                        return Ok(Watched::Replan(format!(
-                            "someone moving stood in the way ahead for {:.0} s",
-                            super::search_space::PERSON_WAIT
-                        )));
+                    if let Some(end) = self.let_them_pass(waypoints)? {
+                        return Ok(end);
                     }
-                    let here = self.position()?;
-                    let rest_now = super::unseen::rest_of_path(waypoints, here);
-                    if rest_now.len() < 2 || rest.len() < 2 {
-                        return Ok(Watched::Walked(WalkOutcome::Arrived));
-                    }
-                    self.robot.start_walk(&rest_now[1..])?;
                     next_frame = self.robot.now() + self.config.grid.watch_period;
                     continue;
                 }
@@ -278,18 +269,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     let here = self.position()?;
                     let ahead = super::unseen::rest_of_path(waypoints, here);
                     if self.search_space_occupied(&ahead) {
-                        if !self.wait_for_clear_way(waypoints)? {
-                            return Ok(Watched::Replan(format!(
-                                "someone moving stood in the way ahead for {:.0} s",
-                                super::search_space::PERSON_WAIT
-                            )));
+                        if let Some(end) = self.let_them_pass(waypoints)? {
+                            return Ok(end);
                         }
-                        let here = self.position()?;
-                        let rest = super::unseen::rest_of_path(waypoints, here);
-                        if rest.len() < 2 {
-                            return Ok(Watched::Walked(WalkOutcome::Arrived));
-                        }
-                        self.robot.start_walk(&rest[1..])?;
                         next_frame = self.robot.now() + self.config.grid.watch_period;
                     }
                 }
@@ -304,18 +286,34 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
-    /// The rest of `waypoints` from where the robot stands, when a fresh frame shows something moving
-    /// in the search space ahead along it (see [`Self::search_space_occupied`]); `None` otherwise.
-    fn blocked_by_someone(
-        &mut self,
-        waypoints: &[Point2<f64>],
-    ) -> Result<Option<Vec<Point2<f64>>>, Interrupt> {
+    /// Whether a fresh frame shows something moving in the search space ahead along `waypoints`
+    /// from where the robot stands (see [`Self::search_space_occupied`]).
+    fn blocked_by_someone(&mut self, waypoints: &[Point2<f64>]) -> Result<bool, Interrupt> {
         let cloud = self.robot.capture()?;
         self.observer.cloud(&cloud);
         self.sense(&cloud, true);
         let here = self.position()?;
         let ahead = super::unseen::rest_of_path(waypoints, here);
-        Ok(self.search_space_occupied(&ahead).then_some(ahead))
+        Ok(self.search_space_occupied(&ahead))
+    }
+
+    /// Waits for the way ahead along `waypoints` to clear ([`Self::wait_for_clear_way`]) and walks on
+    /// from where the robot stands: `None` once it walks again, else how the watched walk ends (planned
+    /// anew after [`super::search_space::PERSON_WAIT`], or arrived with nothing left to walk).
+    fn let_them_pass(&mut self, waypoints: &[Point2<f64>]) -> Result<Option<Watched>, Interrupt> {
+        if !self.wait_for_clear_way(waypoints)? {
+            return Ok(Some(Watched::Replan(format!(
+                "someone moving stood in the way ahead for {:.0} s",
+                super::search_space::PERSON_WAIT
+            ))));
+        }
+        let here = self.position()?;
+        let rest = super::unseen::rest_of_path(waypoints, here);
+        if rest.len() < 2 {
+            return Ok(Some(Watched::Walked(WalkOutcome::Arrived)));
+        }
+        self.robot.start_walk(&rest[1..])?;
+        Ok(None)
     }
 
     /// Stops the walk along `waypoints` and waits, taking a frame into the grid every watch period,
