@@ -147,7 +147,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// robot's body where the robot took its last look. People who find the robot in their way stop
     /// at the edge of its intimate zone (Hall's 0.45 m) and wait there; the grid's passive rules read
     /// them as something moved and left at rest, like a cart left behind, and a clearing stroke
-    /// would push them (`wanderers-032` seed 35: someone stood 0.23 m off the body for over 30 s
+    /// would push them (`wanderers-032` seed 35: someone stood 0.18 m off the body for over 30 s
     /// while the robot looked and waited, and was pushed). What a person leaves behind they leave
     /// where they want it, not at arm's length of a robot standing there.
     pub(crate) fn keeps_its_distance(&self, prism: &Prism) -> bool {

@@ -372,19 +372,10 @@ impl WorldModel {
             .filter(overlapping)
             .filter(|old| !moved(old) && !self.movable.contains(&old.id))
             .collect();
-        let column = |x: f32, y: f32| {
-            let k = |v: f32| (f64::from(v) / RESTING_COLUMN).floor() as i64;
-            (k(x), k(y))
-        };
-        let taller: std::collections::BTreeSet<(i64, i64)> = new
-            .points
-            .iter_valid()
-            .filter(|(_, p, _)| f64::from(p.z) > top + RESTING_COLUMN)
-            .map(|(_, p, _)| column(p.x, p.y))
-            .collect();
+        let taller = columns_above(&new.points, top + RESTING_COLUMN, |_| true);
         let keep = |p: &nalgebra::Point3<f32>| {
             let q = Point2::new(f64::from(p.x), f64::from(p.y));
-            !taller.contains(&column(p.x, p.y))
+            !taller.contains(&resting_column(p))
                 && unmoved.iter().all(|o| o.distance_xy(&q) > RESTING_MARGIN)
         };
         new.with_points_where(keep, config.perception.prism.min_thickness)
@@ -420,10 +411,6 @@ impl WorldModel {
     /// than three points keeps them all; a footprint rebuilt is at least `min_thickness` thick.
     pub(super) fn shed_points_of(&mut self, moved: &Prism, min_thickness: f64) {
         let top = moved.z_max + RESTING_COLUMN;
-        let column = |x: f32, y: f32| {
-            let k = |v: f32| (f64::from(v) / RESTING_COLUMN).floor() as i64;
-            (k(x), k(y))
-        };
         let within = |p: &nalgebra::Point3<f32>| {
             moved.distance_xy(&Point2::new(f64::from(p.x), f64::from(p.y))) <= RESTING_MARGIN
         };
@@ -439,13 +426,9 @@ impl WorldModel {
             if !near(other) {
                 continue;
             }
-            let taller: std::collections::BTreeSet<(i64, i64)> = other
-                .points
-                .iter_valid()
-                .filter(|(_, p, _)| within(p) && f64::from(p.z) > top)
-                .map(|(_, p, _)| column(p.x, p.y))
-                .collect();
-            let shed = |p: &nalgebra::Point3<f32>| within(p) && !taller.contains(&column(p.x, p.y));
+            let taller = columns_above(&other.points, top, within);
+            let shed =
+                |p: &nalgebra::Point3<f32>| within(p) && !taller.contains(&resting_column(p));
             if !other.points.iter_valid().any(|(_, p, _)| shed(&p)) {
                 continue;
             }
@@ -544,6 +527,26 @@ const RESTING_MARGIN: f64 = 0.02;
 /// Side (m) of the columns in which returns above a pushed object's top are looked for, and how far
 /// above its top they must rise: perception's 4 cm elevation cell, a centimetre of range noise more.
 pub(super) const RESTING_COLUMN: f64 = 0.05;
+
+/// The [`RESTING_COLUMN`] a point stands in.
+fn resting_column(p: &nalgebra::Point3<f32>) -> (i64, i64) {
+    let k = |v: f32| (f64::from(v) / RESTING_COLUMN).floor() as i64;
+    (k(p.x), k(p.y))
+}
+
+/// The columns ([`resting_column`]) holding a point of `points` that `near` accepts higher than
+/// `top` (m).
+fn columns_above(
+    points: &ColourCloud,
+    top: f64,
+    near: impl Fn(&nalgebra::Point3<f32>) -> bool,
+) -> BTreeSet<(i64, i64)> {
+    points
+        .iter_valid()
+        .filter(|(_, p, _)| f64::from(p.z) > top && near(p))
+        .map(|(_, p, _)| resting_column(&p))
+        .collect()
+}
 
 /// Looks taken this close together (m) were taken from one place.
 pub(super) const SAME_PLACE: f64 = 0.05;
