@@ -52,15 +52,19 @@ fn noise_free() -> ColourRangeConfig {
 
 #[test]
 fn noise_free_ranges_are_the_exact_geometry() {
-    // Without noise every ray that meets the box face returns the analytic range and the box colour.
+    // Without noise every ray that meets the box face returns the analytic range, to within half the camera's range step (it reports 14-bit counts over 5 m, 0.31 mm), and the box colour.
     let scene = box_ahead_scene();
     let sensor = ColourRangeSensor::new(noise_free());
+    let half_step = sensor.config().camera.range_step() / 2.0;
     let cloud = scene.capture(&sensor, &pose([0.0, 0.0, 1.0], 0.0, 0.0), 1, None);
     let face = face_pixels(&sensor, 0.01);
     assert!(face.len() > 5000, "only {} face pixels", face.len());
     for &(i, truth) in &face {
         let r = range_of(&cloud, i).expect("a face pixel has a return");
-        assert!((r - truth).abs() < 1e-4, "slot {i}: {r} vs {truth}");
+        assert!(
+            (r - truth).abs() < half_step + 1e-5,
+            "slot {i}: {r} vs {truth}"
+        );
         assert_eq!(cloud.colours()[i], BOX_COLOUR);
     }
 }

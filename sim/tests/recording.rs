@@ -100,7 +100,7 @@ fn read(path: &Path) -> Read {
             .insert(topic.clone(), message.channel.message_encoding.clone());
         if topic == topics::WRENCH {
             let w = WristWrench::decode(message.data.as_ref()).expect("a nudge.WristWrench");
-            r.wrench_peak = r.wrench_peak.max(w.force_norm);
+            r.wrench_peak = r.wrench_peak.max(w.force_norm).max(w.peak_force_norm);
         }
         if topic == topics::LOG {
             r.logs.push(message.data.into_owned());
@@ -137,7 +137,7 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
         (topics::PRISMS, "foxglove.SceneUpdate"),
         (topics::PATH, "foxglove.SceneUpdate"),
         (topics::PUSH, "foxglove.SceneUpdate"),
-        (topics::TF, "foxglove.FrameTransform"),
+        (topics::TF, "foxglove.FrameTransforms"),
         (topics::LOG, "foxglove.Log"),
         (topics::WRENCH, "nudge.WristWrench"),
     ];
@@ -178,15 +178,17 @@ fn a_recording_of_the_papers_room_has_every_topic_with_plausible_counts() {
         "{} push updates",
         n(topics::PUSH)
     );
-    // Four frames (base, head, camera, hand) per tick, at 10 Hz or more over the whole run.
-    assert_eq!(n(topics::TF) % 4, 0);
+    // The frames that moved, at 10 Hz or more over the whole run: the robot walks, looks or
+    // pushes nearly all of it.
     assert!(
-        n(topics::TF) as f64 / 4.0 >= 10.0 * robot_time,
+        n(topics::TF) as f64 >= 10.0 * robot_time * 0.9,
         "{} tf",
         n(topics::TF)
     );
+    // A 10 ms window of the wrist at least every tenth of a second of a push test (each lasts
+    // seconds).
     assert!(
-        n(topics::WRENCH) >= 100 * tests,
+        n(topics::WRENCH) >= 10 * tests,
         "{} wrenches",
         n(topics::WRENCH)
     );

@@ -185,7 +185,7 @@ fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
             "bad-tape.mcap",
             Some(mcap_with(
                 TAPE_TOPIC,
-                "nudge.tape/1",
+                nudge_executive::record::tape::TAPE_ENCODING,
                 &[&[1, 0, 0], &[0x7f]],
             )),
             "tape message 0 (robot time 0.000 s) does not decode",

@@ -38,7 +38,7 @@ def main(path):
                 value = decoder(message.data)
                 decoded[channel.topic] = decoded.get(channel.topic, 0) + 1
                 if channel.topic == "/wrist/wrench":
-                    norm = value.force_norm
+                    norm = max(value.force_norm, value.peak_force_norm)
                     wrench_peak = norm if wrench_peak is None else max(wrench_peak, norm)
             t = message.log_time
             start = t if start is None else min(start, t)

@@ -13,19 +13,20 @@ use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
 
 use foxglove::Encode;
-use foxglove::messages::Log;
 use foxglove::messages::log::Level;
+use foxglove::messages::{FrameTransforms, Log};
 use mcap::records::{MessageHeader, Metadata};
 use nalgebra::{Isometry3, Point2, Translation3, UnitQuaternion, Vector2};
 use nudge_perception::{ColourCloud, ObjectId, Prism};
+use nudge_robot_model::CameraModel;
 use prost::Message as _;
 
 use super::messages;
 use super::observer::{GridView, LogLevel, Observer, RobotFrames};
 use super::summary::{RUN_METADATA, RUN_SUMMARY_LOG, RunSummary, SUMMARY_METADATA};
-use super::tape::{TAPE_ENCODING, TAPE_TOPIC, Tape};
-use super::wrench_message::{WRIST_WRENCH_SCHEMA, WristWrench, wrist_wrench_schema};
-use super::writer_thread::{Channel, WriterThread};
+use super::tape::{TAPE_ENCODING, TAPE_TOPIC, Tape, encode_entry};
+use super::wrench_message::{WRIST_WRENCH_SCHEMA, WrenchWindows, WristWrench, wrist_wrench_schema};
+use super::writer_thread::{Channel, Payload, WriterThread};
 use crate::machine::Edge;
 use crate::push_test::{PushEvidence, PushIntent, Verdict};
 use crate::robot::Wrench;
@@ -45,14 +46,14 @@ pub mod topics {
     pub const PATH: &str = "/planner/path";
     /// Push direction and force arrows (`foxglove.SceneUpdate`).
     pub const PUSH: &str = "/push";
-    /// Robot, head, camera and hand frames (`foxglove.FrameTransform`).
+    /// Robot, head, camera and hand frames, those that moved since the last message (`foxglove.FrameTransforms`).
     pub const TF: &str = "/tf";
     /// Executive transitions, verdicts and notes (`foxglove.Log`).
     pub const LOG: &str = "/executive/log";
     /// Wrist wrench (protobuf `nudge.WristWrench`: force and torque, wrist frame, and the force's
     /// norm).
     pub const WRENCH: &str = "/wrist/wrench";
-    /// The replay tape (`nudge.tape/1`, no schema): every adapter call and its result, in batches
+    /// The replay tape (`nudge.tape/2`, no schema): every adapter call and its result, in batches
     /// (see [`crate::record::tape`]).
     pub const TAPE: &str = super::TAPE_TOPIC;
 }
@@ -107,6 +108,36 @@ pub struct McapRecorder<W: Write + Seek + Send + 'static = BufWriter<File>> {
     sequence: u32,
     error: Option<RecordError>,
     tape: Option<Tape>,
+    /// The wrist's samples waiting to be written as one viewing window.
+    wrench_windows: WrenchWindows,
+    /// The image stride of the clouds written for viewing ([`McapRecorder::set_cloud_stride`]).
+    cloud_stride: usize,
+    /// The frames last written to [`topics::TF`]: base, head, camera, hand.
+    last_frames: [Option<Isometry3<f64>>; 4],
+}
+
+/// The fewest entries of tape a message holds before the recording's end: a message per tick
+/// (3,900 in the paper's run) cost a record header and an index entry each, and split what the
+/// compression could match; 512 make about fifty.
+pub const TAPE_BATCH: usize = 512;
+
+/// The range at which a recording's view of the clouds keeps a point per grid cell (m): the middle
+/// half of a look-around's returns in the paper's room lie within 1.5–2.6 m of the camera.
+const VIEW_RANGE: f64 = 2.0;
+
+/// The image stride of the clouds a recording shows ([`topics::CLOUD`]) for `camera` and a grid of
+/// `cell` m: the largest whose points still stand no farther apart than a cell at [`VIEW_RANGE`],
+/// so the view shows every cell a look filled. For the SR-4000's 0.25° pixels and 5 cm cells that
+/// is every fifth pixel of every fifth row, a twenty-fifth of the points: at full resolution the
+/// clouds were two thirds of a recording. The replay tape keeps every point the executive consumed.
+pub fn view_cloud_stride(camera: &CameraModel, cell: f64) -> usize {
+    let pitch = camera.h_fov() / camera.width.max(1) as f64;
+    let stride = (cell / (VIEW_RANGE * pitch)).floor();
+    if stride.is_finite() && stride >= 1.0 {
+        stride.min(64.0) as usize
+    } else {
+        1
+    }
 }
 
 impl McapRecorder<BufWriter<File>> {
@@ -157,23 +188,44 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
             sequence: 0,
             error: None,
             tape: None,
+            wrench_windows: WrenchWindows::default(),
+            cloud_stride: 1,
+            last_frames: [None; 4],
         })
     }
 
     /// Starts recording a replay tape: wrap the robot in a [`super::tape::Taped`] writing onto the
     /// tape returned. The recorder puts the executive's transitions on it and writes what waits on
-    /// it to [`topics::TAPE`] at each observer call (about once a tick), before its summary, and
-    /// when it is finished or dropped.
-    pub fn start_tape(&mut self) -> Tape {
-        let tape = Tape::new();
+    /// it to [`topics::TAPE`] in messages of at least [`TAPE_BATCH`] entries, before its summary, and
+    /// when it is finished or dropped. The robot's `camera` lets the tape store a cloud's points as
+    /// range counts along its pixel rays ([`Tape::for_camera`]).
+    pub fn start_tape(&mut self, camera: &CameraModel) -> Tape {
+        let tape = Tape::for_camera(camera);
         self.tape = Some(tape.clone());
         tape
     }
 
-    /// Writes the tape's waiting entries as one message, stamped with the robot time they began at.
-    fn drain_tape(&mut self) {
-        let Some((stamp, bytes)) = self.tape.as_ref().and_then(Tape::take) else {
+    /// Shows every `stride`-th pixel of every `stride`-th row of the clouds written for viewing
+    /// from now on (1, the default: every pixel; [`view_cloud_stride`] gives one for viewing).
+    pub fn set_cloud_stride(&mut self, stride: usize) {
+        self.cloud_stride = stride.max(1);
+    }
+
+    /// Writes the tape's waiting entries as one message, stamped with the robot time they began at,
+    /// once at least `min_entries` wait.
+    fn drain_tape(&mut self, min_entries: usize) {
+        let Some((stamp, entries, camera)) =
+            self.tape.as_ref().and_then(|t| t.take_entries(min_entries))
+        else {
             return;
+        };
+        // Encoded in the writer thread, beside the run.
+        let encode = move || {
+            let mut bytes = Vec::new();
+            for entry in &entries {
+                encode_entry(entry, &mut bytes, camera.as_deref());
+            }
+            bytes
         };
         let channel = || Channel {
             schema_name: String::new(),
@@ -181,7 +233,31 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
             schema: Vec::new(),
             message_encoding: TAPE_ENCODING.into(),
         };
-        self.write_raw(topics::TAPE, stamp, channel, bytes);
+        self.write_raw(
+            topics::TAPE,
+            stamp,
+            channel,
+            Payload::Deferred(Box::new(encode)),
+        );
+    }
+
+    /// Writes one viewing window of the wrist's samples.
+    fn write_wrench(&mut self, stamp: f64, message: &WristWrench) {
+        let channel = || Channel {
+            schema_name: WRIST_WRENCH_SCHEMA.into(),
+            schema_encoding: "protobuf".into(),
+            schema: wrist_wrench_schema(),
+            message_encoding: "protobuf".into(),
+        };
+        self.write_raw(topics::WRENCH, stamp, channel, message.encode_to_vec());
+    }
+
+    /// Writes what waits: the tape's entries and the open wrench window.
+    fn flush(&mut self) {
+        self.drain_tape(1);
+        if let Some((stamp, message)) = self.wrench_windows.close() {
+            self.write_wrench(stamp, &message);
+        }
     }
 
     /// The first error met while encoding, if any (recording stopped there). An error of the
@@ -194,7 +270,7 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
     /// [`RUN_SUMMARY_LOG`]) at `stamp`, and a metadata record named [`SUMMARY_METADATA`].
     /// Call it once, after the run and before [`McapRecorder::finish`].
     pub fn write_summary(&mut self, stamp: f64, summary: &RunSummary) {
-        self.drain_tape();
+        self.flush();
         self.log(stamp, Level::Info, RUN_SUMMARY_LOG, summary.line());
         let metadata = Metadata {
             name: SUMMARY_METADATA.into(),
@@ -208,7 +284,7 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
     /// Writes the summary section and footer and returns the sink (once the writer thread has
     /// written everything), or the first error met while recording.
     pub fn finish(mut self) -> Result<W, RecordError> {
-        self.drain_tape();
+        self.flush();
         let writer = self.writer.take();
         if let Some(e) = self.error.take() {
             // Dropping the writer finishes what it holds.
@@ -252,8 +328,13 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
         topic: &'static str,
         stamp: f64,
         channel: impl FnOnce() -> Channel,
-        data: Vec<u8>,
+        data: impl Into<Payload>,
     ) {
+        if topic != topics::WRENCH
+            && let Some((at, message)) = self.wrench_windows.close_before(stamp)
+        {
+            self.write_wrench(at, &message);
+        }
         let Some(writer) = self.writer.as_mut() else {
             return;
         };
@@ -267,7 +348,7 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
             publish_time: time,
         };
         self.sequence = self.sequence.wrapping_add(1);
-        writer.message(topic, channel, header, data);
+        writer.message(topic, channel, header, data.into());
     }
 
     /// Keeps the first error and stops recording, finishing what was written so far.
@@ -296,7 +377,7 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
 /// what waits on its tape; the writer then finishes the file as it drops.
 impl<W: Write + Seek + Send + 'static> Drop for McapRecorder<W> {
     fn drop(&mut self) {
-        self.drain_tape();
+        self.flush();
     }
 }
 
@@ -305,7 +386,7 @@ impl<W: Write + Seek + Send + 'static> Observer for McapRecorder<W> {
         if let Some(tape) = &mut self.tape {
             tape.transition(stamp, from, edge, to);
         }
-        self.drain_tape();
+        self.drain_tape(TAPE_BATCH);
         let from = from.map_or("(start)", State::name);
         let text = format!("{from} -> {} ({edge:?})", to.name());
         self.log(stamp, Level::Info, "executive", text);
@@ -332,8 +413,9 @@ impl<W: Write + Seek + Send + 'static> Observer for McapRecorder<W> {
     }
 
     fn cloud(&mut self, cloud: &ColourCloud) {
-        self.drain_tape();
-        self.write(topics::CLOUD, cloud.stamp(), &messages::point_cloud(cloud));
+        self.drain_tape(TAPE_BATCH);
+        let message = messages::point_cloud(cloud, self.cloud_stride);
+        self.write(topics::CLOUD, cloud.stamp(), &message);
     }
 
     fn prisms(&mut self, stamp: f64, prisms: &[Prism]) {
@@ -360,7 +442,7 @@ impl<W: Write + Seek + Send + 'static> Observer for McapRecorder<W> {
     }
 
     fn frames(&mut self, stamp: f64, frames: &RobotFrames) {
-        self.drain_tape();
+        self.drain_tape(TAPE_BATCH);
         let b = frames.base;
         let base = Isometry3::from_parts(
             Translation3::new(b.translation.x, b.translation.y, 0.0),
@@ -374,29 +456,33 @@ impl<W: Write + Seek + Send + 'static> Observer for McapRecorder<W> {
             Translation3::from(frames.hand.coords),
             UnitQuaternion::identity(),
         );
-        for (parent, child, iso) in [
+        // One message of the frames that moved since the last: a viewer holds a frame until it
+        // is updated, and a still hand or head costs nothing.
+        let mut moved = Vec::with_capacity(4);
+        for (k, (parent, child, iso)) in [
             ("map", "base_link", base),
             ("base_link", "head", head),
             ("map", "camera", frames.camera),
             ("base_link", "hand", hand),
-        ] {
-            self.write(
-                topics::TF,
-                stamp,
-                &messages::frame(stamp, parent, child, &iso),
-            );
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if self.last_frames[k] != Some(iso) {
+                self.last_frames[k] = Some(iso);
+                moved.push(messages::frame(stamp, parent, child, &iso));
+            }
+        }
+        if !moved.is_empty() {
+            let message = FrameTransforms { transforms: moved };
+            self.write(topics::TF, stamp, &message);
         }
     }
 
     fn wrench(&mut self, stamp: f64, wrench: &Wrench) {
-        let message = WristWrench::from(wrench).encode_to_vec();
-        let channel = || Channel {
-            schema_name: WRIST_WRENCH_SCHEMA.into(),
-            schema_encoding: "protobuf".into(),
-            schema: wrist_wrench_schema(),
-            message_encoding: "protobuf".into(),
-        };
-        self.write_raw(topics::WRENCH, stamp, channel, message);
+        if let Some((stamp, message)) = self.wrench_windows.push(stamp, wrench) {
+            self.write_wrench(stamp, &message);
+        }
     }
 
     fn note(&mut self, stamp: f64, level: LogLevel, text: &str) {

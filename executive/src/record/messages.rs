@@ -70,14 +70,19 @@ fn field(name: &str, offset: u32, kind: NumericType) -> PackedElementField {
 const QUANTUM_INV: f32 = 1024.0;
 
 /// A colour cloud as a `foxglove.PointCloud`: x, y, z as float32 and red, green, blue as uint8,
-/// expressed in the sensor frame and placed in `map` by the sensor pose (valid points only).
-pub fn point_cloud(cloud: &ColourCloud) -> PointCloud {
+/// expressed in the sensor frame and placed in `map` by the sensor pose (valid points only). Of an
+/// organised cloud it keeps the pixels of every `stride`-th row and column (of an unorganised one,
+/// every `stride`-th point); a stride of 1 keeps them all.
+pub fn point_cloud(cloud: &ColourCloud, stride: usize) -> PointCloud {
     const STRIDE: usize = 16;
-    let mut data = Vec::with_capacity(cloud.len() * STRIDE);
+    let stride = stride.max(1);
+    let width = cloud.width().max(1);
+    let mut data = Vec::with_capacity(cloud.len() / (stride * stride) * STRIDE);
     // Coordinates are rounded to 1/1024 m: far below the sensor's noise and invisible in a viewer,
     // and a float with few mantissa bits compresses several times better than sensor noise does.
     let quantised = |v: f32| ((v * QUANTUM_INV).round() / QUANTUM_INV).to_le_bytes();
-    for (_, p, c) in cloud.iter_valid() {
+    let shown = |i: usize| (i / width).is_multiple_of(stride) && (i % width).is_multiple_of(stride);
+    for (_, p, c) in cloud.iter_valid().filter(|(i, _, _)| shown(*i)) {
         data.extend_from_slice(&quantised(p.x));
         data.extend_from_slice(&quantised(p.y));
         data.extend_from_slice(&quantised(p.z));
@@ -295,7 +300,7 @@ mod tests {
         for (k, &(x, y, z)) in points.iter().enumerate() {
             cloud.push(Point3::new(x, y, z), [10 * k as u8, 20, 30]);
         }
-        let message = point_cloud(&cloud);
+        let message = point_cloud(&cloud, 1);
         let data = message.data.as_ref();
         assert_eq!(data.len(), points.len() * 16);
         for (k, &(x, y, z)) in points.iter().enumerate() {
@@ -311,5 +316,33 @@ mod tests {
             }
             assert_eq!(&record[12..16], &[10 * k as u8, 20, 30, 255]);
         }
+    }
+
+    #[test]
+    fn a_strided_view_keeps_every_strided_row_and_column_of_an_organised_cloud() {
+        // Invariant: with stride 2, a 4 × 3 cloud shows the pixels of rows 0 and 2 and columns 0 and 2 that returned, in image order, and nothing else.
+        let n = 12;
+        let x: Vec<f32> = (0..n).map(|i| i as f32).collect();
+        let mut y = vec![0.0f32; n];
+        y[8] = f32::NAN; // row 2, column 0: no return
+        let cloud = ColourCloud::organised(
+            4,
+            3,
+            x,
+            y,
+            vec![1.0; n],
+            vec![[1, 2, 3]; n],
+            CloudFrame::Sensor,
+            Isometry3::identity(),
+            0.0,
+        )
+        .expect("a 4 × 3 cloud");
+        let message = point_cloud(&cloud, 2);
+        let xs: Vec<f32> = message
+            .data
+            .chunks(16)
+            .map(|r| f32::from_le_bytes(r[0..4].try_into().expect("4 bytes")))
+            .collect();
+        assert_eq!(xs, [0.0, 2.0, 10.0]);
     }
 }

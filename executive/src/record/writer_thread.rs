@@ -33,13 +33,28 @@ pub(super) struct Channel {
     pub message_encoding: String,
 }
 
+/// A message's bytes: ready, or encoded by the writer thread when it comes to them (the replay
+/// tape's entries, whose encoding would otherwise cost the run's own thread).
+pub(super) enum Payload {
+    /// Encoded already.
+    Bytes(Vec<u8>),
+    /// Encoded by the writer thread.
+    Deferred(Box<dyn FnOnce() -> Vec<u8> + Send>),
+}
+
+impl From<Vec<u8>> for Payload {
+    fn from(bytes: Vec<u8>) -> Self {
+        Self::Bytes(bytes)
+    }
+}
+
 /// What the writer is asked to write, in order.
 enum Job {
     Message {
         topic: &'static str,
         channel: Option<Channel>,
         header: MessageHeader,
-        data: Vec<u8>,
+        data: Payload,
     },
     Metadata(Metadata),
 }
@@ -74,7 +89,7 @@ impl<W: Write + Seek + Send + 'static> WriterThread<W> {
         topic: &'static str,
         channel: Option<Channel>,
         header: MessageHeader,
-        data: Vec<u8>,
+        data: Payload,
     ) {
         self.send(Job::Message {
             topic,
@@ -172,6 +187,10 @@ fn write_all<W: Write + Seek>(
                     }
                 };
                 header.channel_id = id;
+                let data = match data {
+                    Payload::Bytes(bytes) => bytes,
+                    Payload::Deferred(encode) => encode(),
+                };
                 writer.write_to_known_channel(&header, &data)?;
                 Ok(())
             })(),

@@ -157,6 +157,11 @@ struct RunArgs {
     /// Record the run to this MCAP file (open it in Foxglove).
     #[arg(long, value_name = "FILE.mcap")]
     record: Option<PathBuf>,
+    /// Show every Nth pixel of every Nth row of the camera's clouds in the recording (1: all; by
+    /// default a point per grid cell at 2 m, every fifth for the paper's camera). The replay tape
+    /// keeps every point whatever this is.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
+    record_cloud_stride: Option<u32>,
     /// Draw the run top-down into this PNG, with a force-over-time panel per push test.
     #[arg(long, value_name = "FILE.png")]
     map: Option<PathBuf>,

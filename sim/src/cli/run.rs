@@ -5,9 +5,9 @@ use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-use crate::run::taped_runner;
+use crate::run::{run_config, taped_runner};
 use anyhow::Context;
-use nudge_executive::record::{McapRecorder, RunInfo, RunSummary};
+use nudge_executive::record::{McapRecorder, RunInfo, RunSummary, view_cloud_stride};
 use nudge_executive::{CandidatePolicy, RunReport, State};
 
 use super::map::{MapCollector, draw};
@@ -38,7 +38,14 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
                 policy: format!("{policy:?}").to_lowercase(),
                 scenario_file: Some((file_name.clone(), text)),
             };
-            Some(McapRecorder::create(path, &info)?)
+            let mut recorder = McapRecorder::create(path, &info)?;
+            let cell = run_config(&scenario, seed, policy).grid.resolution;
+            let stride = args.record_cloud_stride.map_or_else(
+                || view_cloud_stride(&scenario.robot.model().camera, cell),
+                |n| n as usize,
+            );
+            recorder.set_cloud_stride(stride);
+            Some(recorder)
         }
         None => None,
     };
@@ -57,7 +64,8 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     };
     let map = map_file.as_ref().map(|_| MapCollector::new(&scenario));
     // A recording carries the replay tape: every adapter call and its result (`nudge replay`).
-    let tape = recorder.as_mut().map(McapRecorder::start_tape);
+    let camera = scenario.robot.model().camera;
+    let tape = recorder.as_mut().map(|r| r.start_tape(&camera));
     let mut runner = taped_runner(&scenario, seed, policy, (printer, (recorder, map)), tape)?;
     let cancel = runner.cancel_flag();
     // Ctrl-C cancels the run safely (the arm retracts, the recording is finished); a second one is

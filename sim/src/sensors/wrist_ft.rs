@@ -30,6 +30,31 @@ pub struct WristFtConfig {
     pub torque_noise: f64,
     /// Largest constant force bias per axis (N); the actual bias is drawn from the seed.
     pub max_force_bias: f64,
+    /// The step of the force counts the sensor reports (N); 0 for readings on no grid.
+    pub force_step: f64,
+    /// The step of the torque counts the sensor reports (N·m); 0 for readings on no grid.
+    pub torque_step: f64,
+}
+
+/// The step of a sensor's counts for an axis with noise `sigma`: the largest power of two no more
+/// than a tenth of it, so that rounding (a uniform error of step/√12, under σ/30) adds nothing the
+/// noise had not, as in the 16-bit transducers of the class (ATI's Gamma resolves 1/80 N and
+/// 1/1333 N·m against 0.2 N and 0.01 N·m here: 1/64 N and 1/1024 N·m). 0 for a noiseless axis.
+pub fn count_step(sigma: f64) -> f64 {
+    if sigma > 0.0 && sigma.is_finite() {
+        2f64.powi((sigma / 10.0).log2().floor() as i32)
+    } else {
+        0.0
+    }
+}
+
+/// `v` on the grid of `step` (unchanged for a step of 0).
+fn on_step(v: f64, step: f64) -> f64 {
+    if step > 0.0 {
+        (v / step).round() * step
+    } else {
+        v
+    }
 }
 
 impl Default for WristFtConfig {
@@ -41,13 +66,16 @@ impl Default for WristFtConfig {
 
 impl WristFtConfig {
     /// A sensor at `wrist`'s rate with a JR3-like noise: 0.2 N and 0.01 N·m per axis, a bias of up
-    /// to 1 N per axis.
+    /// to 1 N per axis, reported in counts of [`count_step`] of the noise.
     pub fn for_wrist(wrist: &nudge_robot_model::WristModel) -> Self {
+        let (force_noise, torque_noise) = (0.2, 0.01);
         Self {
             rate_hz: wrist.rate_hz,
-            force_noise: 0.2,
-            torque_noise: 0.01,
+            force_noise,
+            torque_noise,
             max_force_bias: 1.0,
+            force_step: count_step(force_noise),
+            torque_step: count_step(torque_noise),
         }
     }
 }
@@ -125,6 +153,12 @@ impl WristFt {
             config.torque_noise,
             config.torque_noise.is_finite() && config.torque_noise >= 0.0,
         )?;
+        for (name, step) in [
+            ("force_step", config.force_step),
+            ("torque_step", config.torque_step),
+        ] {
+            check(name, step, step.is_finite() && step >= 0.0)?;
+        }
         check(
             "max_force_bias",
             config.max_force_bias,
@@ -224,10 +258,19 @@ impl WristFt {
                     force: acc.force + w.force,
                     torque: acc.torque + w.torque,
                 });
-            self.offset = Wrench {
+            self.offset = self.counted(&Wrench {
                 force: sum.force / n,
                 torque: sum.torque / n,
-            };
+            });
+        }
+    }
+
+    /// `w` in the sensor's counts: a reading, or the offset a tare subtracts from readings (a
+    /// sensor's electronics subtract a whole count), so tared readings stay on the grid too.
+    fn counted(&self, w: &Wrench) -> Wrench {
+        Wrench {
+            force: w.force.map(|v| on_step(v, self.config.force_step)),
+            torque: w.torque.map(|v| on_step(v, self.config.torque_step)),
         }
     }
 
@@ -252,10 +295,10 @@ impl WristFt {
     fn raw(&mut self, truth: &Wrench) -> Wrench {
         let f = Vector3::from_fn(|_, _| self.force_noise.sample(&mut self.rng));
         let t = Vector3::from_fn(|_, _| self.torque_noise.sample(&mut self.rng));
-        Wrench {
+        self.counted(&Wrench {
             force: truth.force + self.bias.force + f,
             torque: truth.torque + self.bias.torque + t,
-        }
+        })
     }
 
     fn tared(&self, raw: &Wrench) -> Wrench {
@@ -308,6 +351,32 @@ mod tests {
             / samples.len() as f64)
             .sqrt();
         assert!((sd - 0.2).abs() < 0.03, "noise sd {sd}");
+    }
+
+    #[test]
+    fn readings_are_whole_counts_of_the_sensor_steps_after_tare_too() {
+        // Invariant: every sample, before and after a tare, is a whole number of 1/64 N force counts and 1/1024 N·m torque counts (steps a tenth of the noise or less).
+        let config = WristFtConfig::default();
+        assert_eq!(
+            (config.force_step, config.torque_step),
+            (1.0 / 64.0, 1.0 / 1024.0)
+        );
+        let mut s = WristFt::new(config, 3).expect("valid config");
+        let load = Wrench {
+            force: Vector3::new(1.234_567, -7.654_321, 3.3),
+            torque: Vector3::new(0.012_345, 0.2, -0.3),
+        };
+        s.record(&load, 0, 60_000);
+        s.tare(&load);
+        s.record(&load, 60_000, 80_000);
+        for w in s.drain() {
+            for v in w.value.force.iter() {
+                assert_eq!((v * 64.0).fract(), 0.0, "force {v}");
+            }
+            for v in w.value.torque.iter() {
+                assert_eq!((v * 1024.0).fract(), 0.0, "torque {v}");
+            }
+        }
     }
 
     #[test]

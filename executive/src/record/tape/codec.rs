@@ -13,7 +13,9 @@ use nalgebra::{
 };
 
 use super::call::{Entry, Reply, Request, Transition};
+use super::camera_rays::CameraRays;
 use super::cloud;
+use super::wrench_samples;
 use crate::robot::{
     ActionStatus, GuardedMove, HandOutcome, RobotError, Stamped, WalkOutcome, Wrench,
 };
@@ -138,13 +140,14 @@ impl<'a> Dec<'a> {
     }
 }
 
-/// Encodes one entry onto `out`.
-pub fn encode_entry(entry: &Entry, out: &mut Vec<u8>) {
+/// Encodes one entry onto `out`; a cloud taken by `camera` stores its points as range counts
+/// along the camera's rays (see `cloud.rs`).
+pub fn encode_entry(entry: &Entry, out: &mut Vec<u8>, camera: Option<&CameraRays>) {
     let mut e = Enc(out);
     match entry {
         Entry::Call(request, reply) => {
             encode_request(&mut e, request);
-            encode_reply(&mut e, reply);
+            encode_reply(&mut e, reply, camera);
         }
         Entry::Transition(t) => {
             e.u8(TRANSITION);
@@ -230,7 +233,7 @@ fn encode_request(e: &mut Enc<'_>, request: &Request) {
     }
 }
 
-fn encode_reply(e: &mut Enc<'_>, reply: &Reply) {
+fn encode_reply(e: &mut Enc<'_>, reply: &Reply, camera: Option<&CameraRays>) {
     match reply {
         Reply::Time(t) => e.f64(*t),
         Reply::Done(r) => result(e, r, |_, ()| {}),
@@ -243,14 +246,11 @@ fn encode_reply(e: &mut Enc<'_>, reply: &Reply) {
             });
         }),
         Reply::Head(r) => result(e, r, |e, s| status(e, s, |_, ()| {})),
-        Reply::Cloud(r) => result(e, r, cloud::encode),
-        Reply::Wrench(r) => result(e, r, |e, s| stamped(e, s, wrench)),
-        Reply::Wrenches(r) => result(e, r, |e, v| {
-            e.var(v.len() as u64);
-            for s in v {
-                stamped(e, s, wrench);
-            }
+        Reply::Cloud(r) => result(e, r, |e, c| cloud::encode(e, c, camera)),
+        Reply::Wrench(r) => result(e, r, |e, s| {
+            wrench_samples::samples(e, std::slice::from_ref(s));
         }),
+        Reply::Wrenches(r) => result(e, r, |e, v| wrench_samples::samples(e, v)),
         Reply::Hand(r) => result(e, r, |e, s| stamped(e, s, point3)),
         Reply::HandStatus(r) => result(e, r, |e, s| status(e, s, hand_outcome)),
     }
@@ -306,18 +306,17 @@ fn decode_entry(d: &mut Dec<'_>) -> Result<Entry, DecodeError> {
         12 => Entry::Call(Request::Tare, Reply::Done(done(d)?)),
         13 => Entry::Call(
             Request::Wrench,
-            Reply::Wrench(read_result(d, |d| read_stamped(d, read_wrench))?),
+            Reply::Wrench(read_result(d, |d| {
+                let mut one = wrench_samples::read_samples(d)?;
+                match (one.pop(), one.is_empty()) {
+                    (Some(s), true) => Ok(s),
+                    _ => Err(d.error("a wrench reading that is not one sample")),
+                }
+            })?),
         ),
         14 => Entry::Call(
             Request::DrainWrenches,
-            Reply::Wrenches(read_result(d, |d| {
-                let n = d.count(56)?;
-                let mut v = Vec::with_capacity(n);
-                for _ in 0..n {
-                    v.push(read_stamped(d, read_wrench)?);
-                }
-                Ok(v)
-            })?),
+            Reply::Wrenches(read_result(d, wrench_samples::read_samples)?),
         ),
         15 => Entry::Call(
             Request::HandPosition,

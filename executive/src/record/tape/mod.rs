@@ -11,9 +11,11 @@
 //!
 //! The encoding ([`encode_entry`], [`decode_batch`]) is a small little-endian binary format: every
 //! float as its raw bits (NaN payloads included), lengths as LEB128 varints, a colour cloud as the
-//! raw bits of its points with no-return slots left out (see `cloud.rs`).
+//! raw bits of its points with no-return slots left out, or, for a point on its pixel's ray, as a
+//! count of the camera's range steps (see `cloud.rs`).
 
 mod call;
+mod camera_rays;
 mod cloud;
 mod codec;
 mod file;
@@ -22,8 +24,10 @@ mod tape_buffer;
 mod taped;
 #[cfg(test)]
 mod tests;
+mod wrench_samples;
 
 pub use call::{Entry, Reply, Request, Transition};
+pub use camera_rays::CameraRays;
 pub use codec::{DecodeError, decode_batch, encode_entry};
 pub use file::{Recording, RecordingError, read_recording};
 pub use replay::{Divergence, Replay, ReplayObserver, ReplayRobot};
@@ -34,4 +38,4 @@ pub use taped::Taped;
 pub const TAPE_TOPIC: &str = "/nudge/tape";
 
 /// The tape channel's message encoding: the format and its version. A reader refuses others.
-pub const TAPE_ENCODING: &str = "nudge.tape/1";
+pub const TAPE_ENCODING: &str = "nudge.tape/2";

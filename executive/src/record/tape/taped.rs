@@ -48,7 +48,7 @@ impl<R: Robot> Taped<R> {
     fn tape(&self, call: impl FnOnce() -> (Request, Reply)) {
         if let Some(tape) = &self.tape {
             let (request, reply) = call();
-            tape.write(&Entry::Call(request, reply));
+            tape.write(Entry::Call(request, reply));
         }
     }
 }

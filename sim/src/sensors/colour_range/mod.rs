@@ -100,7 +100,12 @@ impl ColourRangeSensor {
     /// sensor whose captures are empty clouds; use [`Self::try_new`] to be told instead.
     pub fn new(config: ColourRangeConfig) -> Self {
         let directions = if config.validate().is_ok() {
-            pixel_directions(&config)
+            config
+                .camera
+                .pixel_rays()
+                .into_iter()
+                .map(|[x, y, z]| Vector::new(x, y, z))
+                .collect()
         } else {
             Vec::new()
         };
@@ -205,24 +210,6 @@ impl ColourRangeSensor {
             Err(_) => ColourCloud::empty(CloudFrame::Sensor, *sensor_pose, stamp),
         }
     }
-}
-
-/// Pixel-centre ray directions on a tangent-plane grid, row-major, row 0 at the top, column 0 at the
-/// left (+y) when looking along +x.
-fn pixel_directions(config: &ColourRangeConfig) -> Vec<Vector> {
-    let half_w = (config.camera.h_fov_deg.to_radians() / 2.0).tan();
-    let half_h = (config.camera.v_fov_deg.to_radians() / 2.0).tan();
-    let (w, h) = (config.camera.width as f64, config.camera.height as f64);
-    let mut dirs = Vec::with_capacity(config.camera.width * config.camera.height);
-    for row in 0..config.camera.height {
-        let up = half_h * (1.0 - (2.0 * row as f64 + 1.0) / h);
-        for col in 0..config.camera.width {
-            let left = half_w * (1.0 - (2.0 * col as f64 + 1.0) / w);
-            let d = Vector3::new(1.0, left, up).normalize();
-            dirs.push(Vector::new(d.x as Real, d.y as Real, d.z as Real));
-        }
-    }
-    dirs
 }
 
 /// A nalgebra pose as rapier's single-precision pose.

@@ -79,7 +79,9 @@ impl Frame<'_> {
             let mut noise = RayRng::new(self.frame_seed, first + col);
             let true_range = f64::from(toi);
             let sigma = config.range_sigma(true_range, f64::from(cos_incidence));
-            let range = true_range + sigma * gaussian(&mut noise);
+            let range = config
+                .camera
+                .reported_range(true_range + sigma * gaussian(&mut noise));
             let p = *dir * range as Real;
             out.x[col] = p.x;
             out.y[col] = p.y;
