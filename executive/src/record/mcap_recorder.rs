@@ -330,11 +330,6 @@ impl<W: Write + Seek + Send + 'static> McapRecorder<W> {
         channel: impl FnOnce() -> Channel,
         data: impl Into<Payload>,
     ) {
-        if topic != topics::WRENCH
-            && let Some((at, message)) = self.wrench_windows.close_before(stamp)
-        {
-            self.write_wrench(at, &message);
-        }
         let Some(writer) = self.writer.as_mut() else {
             return;
         };

@@ -111,16 +111,6 @@ impl WrenchWindows {
         closed
     }
 
-    /// Closes the open window if `stamp` (s) lies past it: what is written at a later time comes
-    /// after the window in the file, as it came after it in the run.
-    pub fn close_before(&mut self, stamp: f64) -> Option<(f64, WristWrench)> {
-        let past = (stamp / VIEW_WINDOW).floor() as i64;
-        match &self.open {
-            Some(open) if open.index < past => self.close(),
-            _ => None,
-        }
-    }
-
     /// Closes the open window, if any.
     pub fn close(&mut self) -> Option<(f64, WristWrench)> {
         let open = self.open.take()?;
