@@ -18,5 +18,7 @@ pub mod text_place;
 mod validate;
 
 pub use error::{InvalidModel, ModelError};
-pub use model::{ArmModel, BodyModel, CameraModel, ForceModel, HeadModel, RobotModel, WristModel};
+pub use model::{
+    ArmModel, BodyModel, CameraModel, ForceModel, HeadModel, RangeCounts, RobotModel, WristModel,
+};
 pub use validate::Violation;

@@ -48,10 +48,18 @@ pub fn count_step(sigma: f64) -> f64 {
     }
 }
 
-/// `v` on the grid of `step` (unchanged for a step of 0).
+/// `v` on the grid of `step` (unchanged for a step of 0): the nearest whole count, half a step
+/// away from zero. It runs for six axes a millisecond, so it rounds with a truncating cast, not the
+/// library call `f64::round` is on the baseline x86-64 target.
 fn on_step(v: f64, step: f64) -> f64 {
     if step > 0.0 {
-        (v / step).round() * step
+        let steps = v / step;
+        let count = if steps >= 0.0 {
+            (steps + 0.5) as i64
+        } else {
+            -((0.5 - steps) as i64)
+        };
+        count as f64 * step
     } else {
         v
     }

@@ -61,6 +61,7 @@ impl Frame<'_> {
         let dirs = &self.sensor.directions[first..first + width];
         caster.begin_row(row);
         let rotation = Matrix::from_quat(self.pose.rotation);
+        let counts = config.camera.range_counts();
 
         for (col, dir) in dirs.iter().enumerate() {
             let world_dir = rotation * *dir;
@@ -79,9 +80,7 @@ impl Frame<'_> {
             let mut noise = RayRng::new(self.frame_seed, first + col);
             let true_range = f64::from(toi);
             let sigma = config.range_sigma(true_range, f64::from(cos_incidence));
-            let range = config
-                .camera
-                .reported_range(true_range + sigma * gaussian(&mut noise));
+            let range = counts.reported(true_range + sigma * gaussian(&mut noise));
             let p = *dir * range as Real;
             out.x[col] = p.x;
             out.y[col] = p.y;
