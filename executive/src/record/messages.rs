@@ -81,8 +81,17 @@ pub fn point_cloud(cloud: &ColourCloud, stride: usize) -> PointCloud {
     // Coordinates are rounded to 1/1024 m: far below the sensor's noise and invisible in a viewer,
     // and a float with few mantissa bits compresses several times better than sensor noise does.
     let quantised = |v: f32| ((v * QUANTUM_INV).round() / QUANTUM_INV).to_le_bytes();
-    let shown = |i: usize| (i / width).is_multiple_of(stride) && (i % width).is_multiple_of(stride);
-    for (_, p, c) in cloud.iter_valid().filter(|(i, _, _)| shown(*i)) {
+    // Only the shown slots are visited: at the default stride a twenty-fifth of them, in the run's
+    // own thread.
+    let rows = cloud.len() / width;
+    let shown = (0..rows)
+        .step_by(stride)
+        .flat_map(|row| (0..width).step_by(stride).map(move |col| row * width + col));
+    for i in shown {
+        let Some(p) = cloud.point(i) else {
+            continue;
+        };
+        let c = cloud.colours()[i];
         data.extend_from_slice(&quantised(p.x));
         data.extend_from_slice(&quantised(p.y));
         data.extend_from_slice(&quantised(p.z));
