@@ -196,12 +196,24 @@ impl RangeCounts {
     /// the baseline x86-64 target) cost a crowded run 4 % of its time.
     #[inline]
     pub fn reported(&self, range: f64) -> f64 {
-        let steps = range * self.per_step;
+        let steps = self.steps(range);
         let count = if steps >= 0.0 {
             (steps + 0.5) as i64
         } else {
             -((0.5 - steps) as i64)
         };
+        self.range_of(count)
+    }
+
+    /// `range` in steps, not rounded.
+    #[inline]
+    pub fn steps(&self, range: f64) -> f64 {
+        range * self.per_step
+    }
+
+    /// The range `count` steps make, to the bit as [`Self::reported`] gives it.
+    #[inline]
+    pub fn range_of(&self, count: i64) -> f64 {
         count as f64 * self.step
     }
 }

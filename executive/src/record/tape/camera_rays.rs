@@ -1,18 +1,16 @@
 //! A camera's pixel rays and range step: what lets the tape store a point as one range count.
 
-use nudge_robot_model::CameraModel;
+use nudge_robot_model::{CameraModel, RangeCounts};
 
 /// The rays of a [`CameraModel`] and the step of its ranges, computed once. A sensor that reports
 /// each pixel's point as its ray times a range on the step grid ([`CameraModel::pixel_rays`],
-/// [`CameraModel::reported_range`]) has points the tape stores as a count of steps; any other
+/// [`RangeCounts::reported`]) has points the tape stores as a count of steps; any other
 /// point is stored as it is.
 #[derive(Clone, Debug)]
 pub struct CameraRays {
     camera: CameraModel,
     rays: Vec<[f32; 3]>,
-    step: f64,
-    /// 1 / `step`.
-    per_step: f64,
+    counts: RangeCounts,
 }
 
 /// The largest count the tape stores (a `u16`): ranges up to 2¹⁶ steps, four times the camera's
@@ -25,8 +23,7 @@ impl CameraRays {
         Self {
             camera: camera.clone(),
             rays: camera.pixel_rays(),
-            step: camera.range_step(),
-            per_step: 1.0 / camera.range_step(),
+            counts: camera.range_counts(),
         }
     }
 
@@ -48,20 +45,20 @@ impl CameraRays {
     /// The point pixel `i` reports at `count` range steps, to the bit as the sensor computes it: the
     /// range in `f64`, rounded once to `f32`, times each of the ray's `f32` components.
     pub fn point(&self, i: usize, count: u16) -> [f32; 3] {
-        let range = (f64::from(count) * self.step) as f32;
+        let range = self.counts.range_of(i64::from(count)) as f32;
         let [x, y, z] = self.rays[i];
         [x * range, y * range, z * range]
     }
 
     /// The count of range steps that gives exactly `p` at pixel `i`, if there is one. It runs for
-    /// every point of every cloud in the run's own thread, so it is kept to a dot product and a
-    /// truncation before the one comparison that nearly always settles it.
+    /// every point of every cloud the tape stores, so it is kept to a dot product and a truncation
+    /// before the one comparison that nearly always settles it.
     pub fn count_of(&self, i: usize, p: [f32; 3]) -> Option<u16> {
         // A point on its ray is the ray times its range, so its projection on the unit ray is the
         // range, to within the f32 rounding the ±1 candidates absorb: no square root needed.
         let [rx, ry, rz] = self.rays[i].map(f64::from);
         let [x, y, z] = p.map(f64::from);
-        let steps = (x * rx + y * ry + z * rz) * self.per_step + 0.5;
+        let steps = self.counts.steps(x * rx + y * ry + z * rz) + 0.5;
         if !(0.0..f64::from(MAX_COUNT) + 1.0).contains(&steps) {
             return None;
         }

@@ -104,12 +104,11 @@ pub(super) fn encode(e: &mut Enc<'_>, cloud: &ColourCloud, camera: Option<&Camer
         }
     }
     let (xs, ys, zs, rgb) = (cloud.xs(), cloud.ys(), cloud.zs(), cloud.colours());
-    let kept: Vec<usize> = (0..cloud.len())
-        .filter(|&i| !is_no_return(xs[i], ys[i], zs[i], rgb[i]))
+    let stored: Vec<bool> = (0..cloud.len())
+        .map(|i| !is_no_return(xs[i], ys[i], zs[i], rgb[i]))
         .collect();
-    e.bytes(&bit_bytes(
-        (0..cloud.len()).map(|i| !is_no_return(xs[i], ys[i], zs[i], rgb[i])),
-    ));
+    e.bytes(&bit_bytes(stored.iter().copied()));
+    let kept: Vec<usize> = (0..cloud.len()).filter(|&i| stored[i]).collect();
 
     let counts: Vec<Option<u16>> = match camera {
         Some(c) => kept

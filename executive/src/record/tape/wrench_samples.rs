@@ -1,13 +1,13 @@
 //! Wrist samples on the tape: a sensor's counts as small integers, losslessly.
 //!
 //! A force/torque sensor reports counts of a fixed step, and a step that is a power of two makes
-//! each axis an integer times 2⁻ᵏ. A sample is stored as a stamp and two vectors; a stamp on a
-//! whole microsecond (`µs × 10⁻⁶`, as the simulated sensor's clock writes it) as the change in
-//! microseconds from the sample before, any other stamp as its raw bits; a vector whose three axes
-//! are integers times one 2⁻ᵏ (k ≤ 52, read back to the bit) as k and the three integers' changes
-//! from the sample before (zigzag varints), any other vector as its raw bits. At 1 kHz with the
-//! simulated wrist's 1/64 N and 1/1024 N·m steps, a sample is about seven bytes before compression
-//! where its raw bits were 56, and the noise is most of what is left.
+//! each axis an integer times 2⁻ᵏ. A batch of samples is stored in columns ([`samples`]): each
+//! stamp's kind and each vector's k; the stamps, one on a whole microsecond (`µs × 10⁻⁶`, as the
+//! simulated sensor's clock writes it) as the change in microseconds from the one before, any
+//! other as its raw bits; each axis's integers as changes from the sample before (zigzag varints)
+//! where its vector is integers times one 2⁻ᵏ (k ≤ 52, read back to the bit); then the vectors that
+//! are not, as raw bits. With the simulated wrist's 1/64 N and 1/1024 N·m steps the noise is most
+//! of what is left.
 
 use nalgebra::Vector3;
 
@@ -28,8 +28,8 @@ fn unzigzag(z: u64) -> i64 {
 }
 
 /// `v` as integers times 2⁻ᵏ for the least k that reads back to the bit, if any. The k an axis
-/// needs is read off its bits (the exponent less the mantissa's trailing zeros): the encoder runs
-/// for every 1 kHz sample in the run's own thread.
+/// needs is read off its bits (the exponent less the mantissa's trailing zeros), not searched for:
+/// it runs for every 1 kHz sample.
 fn scaled(v: &Vector3<f64>) -> Option<(u8, [i64; 3])> {
     let mut k = 0i32;
     for a in [v.x, v.y, v.z] {
