@@ -150,6 +150,21 @@ impl Prism {
             .min_by(|a, b| (a - p).norm().total_cmp(&(b - p).norm()))
     }
 
+    /// Grows the footprint to the convex hull of itself and `p`: the object is known to reach there
+    /// (a robot's body was stopped against it) though its points fell short. The points are kept.
+    pub fn grow_to(&mut self, p: &Point2<f64>) {
+        if self.contains_xy(p) {
+            return;
+        }
+        let pts: Vec<parry2d::math::Vector2> = self
+            .footprint
+            .iter()
+            .chain(std::iter::once(p))
+            .map(|q| parry2d::math::Vector2::new(q.x as f32, q.y as f32))
+            .collect();
+        self.footprint = crate::prisms::convex_footprint(&pts, 0.0);
+    }
+
     /// The convex hull of both footprints: [`Self::merged_with`]'s footprint, without copying points.
     pub fn merged_footprint(&self, other: &Prism) -> Vec<Point2<f64>> {
         let pts: Vec<parry2d::math::Vector2> = self
@@ -395,5 +410,21 @@ mod tests {
         track_ids(&[chair.transformed(&push)], &mut after);
         assert_eq!(after[0].id, ObjectId(3));
         assert!(after[0].contains_xy(&Point2::new(4.6, 0.85)));
+    }
+
+    #[test]
+    fn a_footprint_grown_to_a_point_covers_it_and_all_it_covered() {
+        // Invariant: growing to a point outside adds it to the footprint's hull (the old footprint is still covered, the point now is) and a point inside changes nothing.
+        let mut prism = square(1, 0.0, 0.0, 1.0);
+        let outside = Point2::new(0.5, -0.1);
+        prism.grow_to(&outside);
+        assert!(prism.distance_xy(&outside) < 1e-6, "{:?}", prism.footprint);
+        for corner in square(1, 0.0, 0.0, 1.0).footprint {
+            assert!(prism.distance_xy(&corner) < 1e-6, "{corner} left out");
+        }
+        assert!((prism.area() - 1.05).abs() < 1e-5, "area {}", prism.area());
+        let before = prism.footprint.clone();
+        prism.grow_to(&Point2::new(0.5, 0.5));
+        assert_eq!(prism.footprint, before);
     }
 }

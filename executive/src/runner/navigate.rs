@@ -60,6 +60,47 @@ fn step_away(here: &Point2<f64>, validity: &Validity, distance: f64) -> Point2<f
         .map_or(*here, |(_, p)| p)
 }
 
+/// The point `distance` straight behind a robot at `here` facing `heading` (rad), if it lies inside the
+/// walls and no nearer any obstacle of `validity` than `here` does. The base faces the way it walks,
+/// so what stopped a walk touches the front half of the body; a step straight back moves away from
+/// every point of that half, wherever the obstacles place the thing.
+fn step_back(
+    here: &Point2<f64>,
+    heading: f64,
+    validity: &Validity,
+    distance: f64,
+) -> Option<Point2<f64>> {
+    let room = |p: &Point2<f64>| {
+        validity
+            .obstacles()
+            .iter()
+            .map(|o| o.distance_to_point(p))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let back = here - Vector2::new(heading.cos(), heading.sin()) * distance;
+    let inside = validity.walls().signed_inner_distance(&back) >= validity.robot().radius;
+    (inside && (validity.is_free(&back) || room(&back) >= room(here))).then_some(back)
+}
+
+/// `path` (planned from `start`) walked from `here` through `from`: the steps clear of what the robot
+/// stood against, then the path.
+fn joined(
+    here: Point2<f64>,
+    from: Point2<f64>,
+    start: Point2<f64>,
+    path: Path,
+) -> Result<Path, String> {
+    if start == here {
+        return Ok(path);
+    }
+    let mut waypoints = vec![here];
+    if from != here && from != start {
+        waypoints.push(from);
+    }
+    waypoints.extend_from_slice(path.waypoints());
+    Path::new(waypoints).map_err(|e| e.to_string())
+}
+
 /// How a watched walk ended.
 enum Watched {
     /// The walk itself ended.
@@ -71,7 +112,13 @@ enum Watched {
     Unseen(f64),
 }
 
-/// A walk blocked within this distance (m) of where it started did not get away at all.
+/// How far beyond the body's edge (m) the obstacle a walk was stopped against may lie in the robot's
+/// obstacles ([`super::world::WorldModel::touched`]): the planning clearance (8 cm), within which
+/// a path may have led the body up to the hull, plus a grid cell (5 cm), by which a hull whose face
+/// was seen edge-on falls short of it.
+const TOUCH_REACH: f64 = 0.13;
+
+/// A robot within this distance (m) of where its last walk ended blocked still stands there.
 const STUCK_DISTANCE: f64 = 0.02;
 
 /// Extra distance beyond the goal tolerance within which an arrival counts (m): the walk's own error.
@@ -107,45 +154,89 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// A shortcut path from `here` to the goal, or to `target` within 3 cm when given.
     fn plan_to(&mut self, here: Point2<f64>, target: Option<Point2<f64>>) -> Result<Path, String> {
-        // A walk that was blocked before it moved (the body standing within the walk's margin of a
-        // face it had pushed, the path leaving along it) starts with a step straight away from what
-        // holds it: the way that gains the most room.
-        let stuck = self
+        // A robot standing where its last walk ended blocked is within the base's safety margin of
+        // something in front of it, which the obstacles may place a few centimetres off: a path that
+        // leaves along it is blocked again at once. It first steps back, away from what stopped it.
+        let blocked = self
             .world
-            .stuck_at
-            .is_some_and(|at| (at - here).norm() < STUCK_DISTANCE);
-        let from = if stuck {
+            .blocked_at
+            .filter(|at| (Point2::from(at.translation.vector) - here).norm() < STUCK_DISTANCE);
+        if let Some(at) = blocked {
             let validity = self.world.validity(&here, &self.config)?;
-            step_away(&here, &validity, self.config.clearance)
-        } else {
-            here
+            let from = step_back(&here, at.rotation.angle(), &validity, self.config.clearance)
+                .unwrap_or_else(|| step_away(&here, &validity, self.config.clearance));
+            if let Ok(path) = self.plan_from(here, from, target) {
+                return Ok(path);
+            }
+        }
+        self.plan_from(here, here, target)
+    }
+
+    /// A shortcut path from `here` through `from` (where it starts planning) to the goal, or to
+    /// `target` within 3 cm when given.
+    fn plan_from(
+        &mut self,
+        here: Point2<f64>,
+        from: Point2<f64>,
+        target: Option<Point2<f64>>,
+    ) -> Result<Path, String> {
+        // Clearances from the largest down to the first at which the robot stands free and, when
+        // walking to a target (a stand pose planned with less clearance), the target is free too: a
+        // robot standing near something (after a push, where a walk stopped short) still plans its
+        // way with the most clearance that has one, stepping clear first, rather than hugging every
+        // obstacle on the way at the clearance it stands at. Below that first one nothing is tried:
+        // a way that needs less clearance than the robot has is a way through a gap too tight.
+        let mut levels = Vec::new();
+        for validity in self.world.validities(&from, &self.config) {
+            let validity = validity?;
+            let stands = validity.is_free(&from) && target.is_none_or(|t| validity.is_free(&t));
+            levels.push(validity);
+            if stands {
+                break;
+            }
+        }
+        let Some((least, more)) = levels.split_last() else {
+            return Err("no planning bounds".into());
         };
-        // The largest clearance at which the robot stands free and, when walking to a target (a stand
-        // pose planned with less clearance), the target is free too.
-        let validity = match target {
-            Some(t) => self
-                .world
-                .validities(&from, &self.config)
-                .filter_map(Result::ok)
-                .find(|v| v.is_free(&from) && v.is_free(&t))
-                .map_or_else(|| self.world.validity(&from, &self.config), Ok)?,
-            None => self.world.validity(&from, &self.config)?,
-        };
+        for validity in more {
+            if target.is_some_and(|t| !validity.is_free(&t)) {
+                continue;
+            }
+            // The step clear is walked at the clearance the robot stands at.
+            let start = nearest_free(&from, validity).filter(|s| least.motion_free(&from, s));
+            if let Some(start) = start
+                && let Ok(path) = self.solve(start, target, validity)
+            {
+                return joined(here, from, start, path);
+            }
+        }
         // Where an obstacle seems to overlap the robot (someone stepped up to it, or a hull is a few
         // centimetres generous), plan from the nearest free spot and step there first.
-        let start = if validity.is_free(&from) {
+        let start = if least.is_free(&from) {
             from
         } else {
-            nearest_free(&from, &validity).ok_or_else(|| {
+            nearest_free(&from, least).ok_or_else(|| {
                 format!("the start is in collision and no free spot lies within {ESCAPE_RADIUS} m")
             })?
         };
+        let path = self.solve(start, target, least)?;
+        joined(here, from, start, path)
+    }
+
+    /// A shortcut path from `start` to the goal, or to `target` within 3 cm when given, among the
+    /// obstacles of `validity`.
+    fn solve(
+        &mut self,
+        start: Point2<f64>,
+        target: Option<Point2<f64>>,
+        validity: &Validity,
+    ) -> Result<Path, String> {
         let problem = match target {
             Some(t) => Problem::new(start, t, 0.03).map_err(|e| e.to_string())?,
             None => WorldModel::problem(&start, &self.config)?,
         };
         // A flood fill proves most "no path" cases at once; the planner would spend its whole budget.
-        if certainly_unreachable(&validity, &problem.start(), problem.goal()) {
+        if certainly_unreachable(validity, &problem.start(), problem.goal()) {
             return Err(
                 "no free way joins the start to the goal region (flood fill over 5 cm cells)"
                     .into(),
@@ -153,26 +244,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
         let (path, _, tree) = self.config.planner.solve_recorded(
             &problem,
-            &validity,
+            validity,
             self.config.budget,
             &mut self.rng,
         );
         let stamp = self.robot.now();
         self.observer.tree(stamp, &tree.edges);
         let path = path.map_err(|e| e.to_string())?;
-        let path = self
-            .config
-            .shortcut
-            .shorten(&path, &validity, &mut self.rng);
-        if start == here {
-            return Ok(path);
-        }
-        let mut waypoints = vec![here];
-        if from != here && from != start {
-            waypoints.push(from);
-        }
-        waypoints.extend_from_slice(path.waypoints());
-        Path::new(waypoints).map_err(|e| e.to_string())
+        Ok(self.config.shortcut.shorten(&path, validity, &mut self.rng))
     }
 
     /// Walks the planned path to the goal; with `stop_at_unseen`, stops before floor under the path
@@ -231,7 +310,6 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if stop_at_unseen && let Some(stop) = self.check_unseen_ahead(waypoints)? {
             return Ok(stop);
         }
-        let from = self.position()?;
         self.robot.start_walk(rest)?;
         // Someone who stopped the base is waited for while the walk is young: a walk stopped again
         // and again by people standing in its way (they yield to the robot as it yields to them)
@@ -254,7 +332,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     next_frame = self.robot.now() + self.config.grid.watch_period;
                     continue;
                 }
-                self.note_stuck(from, &outcome)?;
+                self.note_blocked(&outcome);
                 return Ok(Watched::Walked(outcome));
             }
             if self.robot.now() >= next_frame {
@@ -501,10 +579,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         if rest.is_empty() {
             return Ok(WalkOutcome::Arrived);
         }
-        let from = self.position()?;
         self.robot.start_walk(rest)?;
         let outcome = self.wait(|r| r.walk_status())?;
-        self.note_stuck(from, &outcome)?;
+        self.note_blocked(&outcome);
         Ok(outcome)
     }
 
@@ -523,13 +600,27 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
-    /// Remembers where a walk that ended blocked before it got away stopped (see [`Self::plan_to`]);
-    /// any other end of a walk forgets it.
-    fn note_stuck(&mut self, from: Point2<f64>, outcome: &WalkOutcome) -> Result<(), Interrupt> {
-        let here = self.position()?;
-        let blocked = matches!(outcome, WalkOutcome::Blocked { .. });
-        self.world.stuck_at = (blocked && (here - from).norm() < STUCK_DISTANCE).then_some(here);
-        Ok(())
+    /// Remembers where and facing which way a walk ended blocked (see [`Self::plan_to`]); any other
+    /// end of a walk forgets it.
+    fn note_blocked(&mut self, outcome: &WalkOutcome) {
+        self.world.blocked_at = match outcome {
+            WalkOutcome::Blocked { at } => Some(*at),
+            _ => None,
+        };
+        // What stopped the walk reaches at least to the body's edge: its obstacle grows to there, so
+        // that later paths keep the base's margin from it instead of meeting it again. Not where a
+        // look ever saw something move: a person who stepped into the way and stood (as people do
+        // when the robot comes at them) is not an obstacle's edge, and a scrap of them grown to the
+        // body would become something to push.
+        let touched = self
+            .world
+            .blocked_at
+            .and_then(|at| self.world.touched(&at, &self.config, TOUCH_REACH));
+        if let Some((i, point)) = touched
+            && !self.seen_moving_ever(&self.world.prisms[i])
+        {
+            self.world.prisms[i].grow_to(&point);
+        }
     }
 
     /// Walks to the stand pose of `intent` and turns to face the push.
@@ -551,8 +642,8 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
         let stuck = self
             .world
-            .stuck_at
-            .is_some_and(|at| (at - here).norm() < STUCK_DISTANCE);
+            .blocked_at
+            .is_some_and(|at| (Point2::from(at.translation.vector) - here).norm() < STUCK_DISTANCE);
         let planned = self
             .world
             .push_plan
@@ -571,8 +662,24 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         } else {
             self.walk(path.waypoints())
         };
+        // A walk the base stopped on the push's line, short of the stand pose, has arrived where the
+        // stroke still ends within the arm's reach: the object's face stands nearer than its hull
+        // (the base keeps its margin from it), and the push test meets the face where it is.
+        let d = intent.direction.into_inner();
+        let contact_ahead = (self.planned_contact(intent) - stand).dot(&d);
+        let reach = self.config.model.arm.reach_x[1] - self.config.push_motion.test_travel;
+        let arrived = |at: &nalgebra::Isometry2<f64>| {
+            let off = Point2::from(at.translation.vector) - stand;
+            let (along, across) = (off.dot(&d), off.perp(&d));
+            across.abs() <= super::push::LATERAL_SLACK
+                && along <= super::push::LATERAL_SLACK
+                && contact_ahead - along <= reach
+        };
         let outcome = match walked {
             Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),
+            Ok(WalkOutcome::Blocked { at }) if arrived(&at) => {
+                self.turn_to(intent.direction.y.atan2(intent.direction.x))
+            }
             other => other,
         };
         match outcome {
@@ -684,5 +791,30 @@ pub(super) mod tests {
         );
         // The face 0.1 m behind the robot's centre: 0.45 m of overlap, more than the radius.
         assert_eq!(nearest_free(&here, &validity_with_box(-0.1, 0.35)), None);
+    }
+
+    #[test]
+    fn a_blocked_robot_steps_straight_back_from_what_it_faced() {
+        // Invariant: the step back lies the given distance behind the heading, farther from the obstacle ahead than the robot stands; none is offered where it would leave the walls.
+        let radius = 0.35;
+        // The box's near face 1.5 cm (the base's margin) ahead of the body.
+        let v = validity_with_box(radius + 0.015, radius);
+        let here = Point2::origin();
+        let back = step_back(&here, 0.0, &v, 0.08).expect("room behind");
+        assert!((back - Point2::new(-0.08, 0.0)).norm() < 1e-12, "{back}");
+        let gap = |p: &Point2<f64>| v.obstacles()[0].distance_to_point(p);
+        assert!(gap(&back) > gap(&here) + 0.079);
+        // Facing the box at 45°: still straight back along the heading.
+        let a = std::f64::consts::FRAC_PI_4;
+        let back = step_back(&here, a, &v, 0.08).expect("room behind");
+        assert!((back - here + Vector2::new(a.cos(), a.sin()) * 0.08).norm() < 1e-12);
+        // A wall 0.4 m behind: the body would leave the room.
+        let walls = Bounds::new(Point2::new(-0.4, -5.0), Point2::new(5.0, 5.0)).expect("bounds");
+        let robot = RobotCylinder {
+            radius,
+            height: 1.5,
+        };
+        let hemmed = Validity::new(robot, walls, &[], ValidityConfig::default()).expect("world");
+        assert_eq!(step_back(&here, 0.0, &hemmed, 0.08), None);
     }
 }

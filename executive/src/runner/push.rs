@@ -297,16 +297,19 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         intent: &PushIntent,
     ) -> Result<Point2<f64>, Interrupt> {
         let base = self.robot.base_pose()?.value;
-        let contact = self
-            .world
+        Ok(base.inverse_transform_point(&self.planned_contact(intent)))
+    }
+
+    /// Where the hand of `intent` is planned to meet the object's face (map frame).
+    pub(super) fn planned_contact(&self, intent: &PushIntent) -> Point2<f64> {
+        self.world
             .push_plan
             .as_ref()
             .filter(|p| p.object == intent.target)
             .map(|p| Point2::new(p.contact_point.x, p.contact_point.y))
             .unwrap_or_else(|| {
                 Point2::from(intent.stand.translation.vector) + intent.direction.into_inner() * 0.5
-            });
-        Ok(base.inverse_transform_point(&contact))
+            })
     }
 
     /// Runs one push test: clouds before, a guarded stroke, clouds after, colour ICP.

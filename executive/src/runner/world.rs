@@ -78,8 +78,8 @@ pub(crate) struct WorldModel {
     /// Obstacles a look saw arrive (an earlier view of the look saw through where they stand): they
     /// came while the head turned, so they move by themselves or were carried, and may be people.
     pub arrivals: std::collections::BTreeSet<nudge_perception::ObjectId>,
-    /// Where a walk was blocked before it got away (see the runner's `plan_to`).
-    pub stuck_at: Option<Point2<f64>>,
+    /// Where the last walk ended blocked, facing the way it walked (see the runner's `plan_to`).
+    pub blocked_at: Option<nalgebra::Isometry2<f64>>,
     /// Objects a push test's stroke stopped on with its force leaning out of the horizontal: they
     /// tipped under the hand, and are pushed low from then on.
     pub tipped: std::collections::BTreeSet<ObjectId>,
@@ -438,6 +438,36 @@ impl WorldModel {
         }
     }
 
+    /// What the base's safety layer tells of a walk it stopped at `at`: something stands within its
+    /// margin of the body's front half (the base faces the way it walks). The prism nearest the body
+    /// on that side, within `reach` of its edge, is taken for it: returned with the point of the
+    /// body's edge facing it, which the thing reaches at least (a hull is made of the points a look
+    /// caught, and a face seen edge-on or not at all leaves it a few centimetres short). `None` when
+    /// nothing is near on that side (someone who walked off, a thing never seen).
+    pub fn touched(
+        &self,
+        at: &nalgebra::Isometry2<f64>,
+        config: &RunConfig,
+        reach: f64,
+    ) -> Option<(usize, Point2<f64>)> {
+        let body = &config.model.body;
+        let here = Point2::from(at.translation.vector);
+        let heading = at.rotation * nalgebra::Vector2::x();
+        let blocks_body = |p: &Prism| p.z_max > body.step_over && p.z_min < body.height;
+        let (i, q) = self
+            .prisms
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| blocks_body(p) && !p.contains_xy(&here))
+            .filter_map(|(i, p)| Some((i, p.nearest_on_outline(&here)?)))
+            .filter(|(_, q)| {
+                (q - here).dot(&heading) > 0.0 && (q - here).norm() <= body.radius + reach
+            })
+            .min_by(|a, b| (a.1 - here).norm().total_cmp(&(b.1 - here).norm()))?;
+        let toward = (q - here).try_normalize(1e-9)?;
+        Some((i, here + toward * body.radius))
+    }
+
     /// Whether `prism` is room structure, not an object to push: it lies at the edge of everything
     /// seen, and it is not merely the farthest low thing seen in some direction.
     pub fn is_structure(&self, prism: &Prism, config: &RunConfig) -> bool {
@@ -665,6 +695,35 @@ pub(super) mod tests {
             }
         }
         p
+    }
+
+    #[test]
+    fn a_blocked_walk_is_put_down_to_the_nearest_obstacle_in_front_within_reach() {
+        // Invariant: the obstacle taken for what stopped a walk is the nearest one in the body's front half within the reach of its edge, and the point returned is the body's edge facing it; one behind, one out of reach or one too low to stop the body is never taken.
+        let config = config_to(Point2::new(5.0, 0.0));
+        let r = config.model.body.radius;
+        let facing = |yaw: f64| nalgebra::Isometry2::new(nalgebra::Vector2::zeros(), yaw);
+        // A box whose face is 5 cm ahead of the body, one 2 cm behind it, and a mat right ahead.
+        let ahead = prism(1, r + 0.05, -0.5, r + 0.85, 0.5);
+        let behind = prism(2, -r - 0.8, -0.5, -r - 0.02, 0.5);
+        let mat = box_prism(3, (r + 0.01, -0.2, r + 0.3, 0.2), 0.01);
+        let world = WorldModel {
+            prisms: vec![ahead, behind, mat],
+            ..WorldModel::default()
+        };
+        let (i, point) = world
+            .touched(&facing(0.0), &config, 0.13)
+            .expect("the box ahead");
+        assert_eq!(world.prisms[i].id, ObjectId(1));
+        assert!((point - Point2::new(r, 0.0)).norm() < 1e-12, "{point}");
+        // Turned round, the box 2 cm off the body's back is the one in front.
+        let (i, _) = world
+            .touched(&facing(std::f64::consts::PI), &config, 0.13)
+            .expect("the other box");
+        assert_eq!(world.prisms[i].id, ObjectId(2));
+        // The face ahead beyond a reach of 4 cm.
+        let near_only = world.touched(&facing(0.0), &config, 0.04);
+        assert_eq!(near_only, None);
     }
 
     /// The run's configuration for the paper's robot and a goal at `goal` (0.2 m tolerance).
