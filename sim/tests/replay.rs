@@ -170,7 +170,9 @@ fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
             Some(full[..full.len() / 3].to_vec()),
             "truncated",
         ),
-        ("damaged.mcap", Some(damaged), "corrupt"),
+        // The reader checks a chunk's CRC once it has read the chunk through; a damaged tape message
+        // in it may fail to decode first. Either way the error says what is wrong.
+        ("damaged.mcap", Some(damaged), "corrupt|does not decode"),
         (
             "foreign.mcap",
             Some(mcap_with("/chatter", "json", &[b"{}"])),
@@ -207,7 +209,10 @@ fn bad_files_are_errors_naming_the_file_and_what_is_wrong() {
             stderr.contains(&path.display().to_string()),
             "{name}: the error names the file: {stderr}"
         );
-        assert!(stderr.contains(why), "{name}: expected '{why}': {stderr}");
+        assert!(
+            why.split('|').any(|w| stderr.contains(w)),
+            "{name}: expected '{why}': {stderr}"
+        );
         assert!(
             replay_file(&path, &[]).is_err(),
             "{name}: the library refuses it too"

@@ -42,13 +42,7 @@ pub(super) fn nearest_free(
 /// of `validity`: a step straight away from what the robot stands against.
 fn step_away(here: &Point2<f64>, validity: &Validity, distance: f64) -> Point2<f64> {
     const BEARINGS: usize = 32;
-    let room = |p: &Point2<f64>| {
-        validity
-            .obstacles()
-            .iter()
-            .map(|o| o.distance_to_point(p))
-            .fold(f64::INFINITY, f64::min)
-    };
+    let room = |p: &Point2<f64>| room(validity, p);
     (0..BEARINGS)
         .map(|k| {
             let a = std::f64::consts::TAU * k as f64 / BEARINGS as f64;
@@ -70,16 +64,19 @@ fn step_back(
     validity: &Validity,
     distance: f64,
 ) -> Option<Point2<f64>> {
-    let room = |p: &Point2<f64>| {
-        validity
-            .obstacles()
-            .iter()
-            .map(|o| o.distance_to_point(p))
-            .fold(f64::INFINITY, f64::min)
-    };
     let back = here - Vector2::new(heading.cos(), heading.sin()) * distance;
     let inside = validity.walls().signed_inner_distance(&back) >= validity.robot().radius;
-    (inside && (validity.is_free(&back) || room(&back) >= room(here))).then_some(back)
+    let farther = validity.is_free(&back) || room(validity, &back) >= room(validity, here);
+    (inside && farther).then_some(back)
+}
+
+/// Distance (m) from `p` to the nearest obstacle of `validity` (infinite with none).
+fn room(validity: &Validity, p: &Point2<f64>) -> f64 {
+    validity
+        .obstacles()
+        .iter()
+        .map(|o| o.distance_to_point(p))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// `path` (planned from `start`) walked from `here` through `from`: the steps clear of what the robot
