@@ -42,14 +42,13 @@ pub(super) fn nearest_free(
 /// of `validity`: a step straight away from what the robot stands against.
 fn step_away(here: &Point2<f64>, validity: &Validity, distance: f64) -> Point2<f64> {
     const BEARINGS: usize = 32;
-    let room = |p: &Point2<f64>| room(validity, p);
     (0..BEARINGS)
         .map(|k| {
             let a = std::f64::consts::TAU * k as f64 / BEARINGS as f64;
             here + Vector2::new(a.cos(), a.sin()) * distance
         })
         .filter(|p| validity.walls().signed_inner_distance(p) >= validity.robot().radius)
-        .map(|p| (room(&p), p))
+        .map(|p| (room(validity, &p), p))
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map_or(*here, |(_, p)| p)
 }
@@ -109,12 +108,6 @@ enum Watched {
     Unseen(f64),
 }
 
-/// How far beyond the body's edge (m) the obstacle a walk was stopped against may lie in the robot's
-/// obstacles ([`super::world::WorldModel::touched`]): the planning clearance (8 cm), within which
-/// a path may have led the body up to the hull, plus a grid cell (5 cm), by which a hull whose face
-/// was seen edge-on falls short of it.
-const TOUCH_REACH: f64 = 0.13;
-
 /// A robot within this distance (m) of where its last walk ended blocked still stands there.
 const STUCK_DISTANCE: f64 = 0.02;
 
@@ -154,11 +147,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // A robot standing where its last walk ended blocked is within the base's safety margin of
         // something in front of it, which the obstacles may place a few centimetres off: a path that
         // leaves along it is blocked again at once. It first steps back, away from what stopped it.
-        let blocked = self
-            .world
-            .blocked_at
-            .filter(|at| (Point2::from(at.translation.vector) - here).norm() < STUCK_DISTANCE);
-        if let Some(at) = blocked {
+        if let Some(at) = self.blocked_here(&here) {
             let validity = self.world.validity(&here, &self.config)?;
             let from = step_back(&here, at.rotation.angle(), &validity, self.config.clearance)
                 .unwrap_or_else(|| step_away(&here, &validity, self.config.clearance));
@@ -597,6 +586,13 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         }
     }
 
+    /// The pose the last walk ended blocked at, while the robot at `here` still stands there.
+    fn blocked_here(&self, here: &Point2<f64>) -> Option<nalgebra::Isometry2<f64>> {
+        self.world
+            .blocked_at
+            .filter(|at| (Point2::from(at.translation.vector) - here).norm() < STUCK_DISTANCE)
+    }
+
     /// Remembers where and facing which way a walk ended blocked (see [`Self::plan_to`]); any other
     /// end of a walk forgets it.
     fn note_blocked(&mut self, outcome: &WalkOutcome) {
@@ -609,10 +605,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // look ever saw something move: a person who stepped into the way and stood (as people do
         // when the robot comes at them) is not an obstacle's edge, and a scrap of them grown to the
         // body would become something to push.
+        // The thing may lie beyond the body's edge by the planning clearance (a path may have led
+        // the body up to the hull) and a grid cell (by which a hull whose face was seen edge-on
+        // falls short of it): 13 cm for the paper's robot.
+        let reach = self.config.clearance + self.config.grid.resolution;
         let touched = self
             .world
             .blocked_at
-            .and_then(|at| self.world.touched(&at, &self.config, TOUCH_REACH));
+            .and_then(|at| self.world.touched(&at, &self.config, reach));
         if let Some((i, point)) = touched
             && !self.seen_moving_ever(&self.world.prisms[i])
         {
@@ -637,10 +637,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 Err(i) => i.into(),
             };
         }
-        let stuck = self
-            .world
-            .blocked_at
-            .is_some_and(|at| (Point2::from(at.translation.vector) - here).norm() < STUCK_DISTANCE);
+        let stuck = self.blocked_here(&here).is_some();
         let planned = self
             .world
             .push_plan
@@ -672,12 +669,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 && along <= super::push::LATERAL_SLACK
                 && contact_ahead - along <= reach
         };
-        let outcome = match walked {
-            Ok(WalkOutcome::Arrived) => self.turn_to(intent.direction.y.atan2(intent.direction.x)),
-            Ok(WalkOutcome::Blocked { at }) if arrived(&at) => {
-                self.turn_to(intent.direction.y.atan2(intent.direction.x))
-            }
-            other => other,
+        let there = match &walked {
+            Ok(WalkOutcome::Arrived) => true,
+            Ok(WalkOutcome::Blocked { at }) => arrived(at),
+            _ => false,
+        };
+        let outcome = if there {
+            self.turn_to(d.y.atan2(d.x))
+        } else {
+            walked
         };
         match outcome {
             Ok(WalkOutcome::Arrived) => Event::Arrived,
