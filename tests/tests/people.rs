@@ -59,6 +59,12 @@ fn four_wanderers_are_waited_for_and_leave_no_ghost() {
 }
 
 #[test]
+fn someone_who_stood_through_a_look_and_walked_off_unseen_is_looked_at_again_and_forgotten() {
+    // Invariant: a wanderer who stood still through the robot's second look (kept as an obstacle like any other, never seen moving) and walked off while the robot walked on past them is looked at again from the goal and forgotten: the run keeps no obstacle where the truth has nothing (without the goal's glances seed 2 kept obj-32 at (5.19, 3.62), behind the robot), touches nobody and judges every object right.
+    assert_safe_and_clean("four-wanderers", 2);
+}
+
+#[test]
 fn a_person_pacing_past_the_barrier_is_never_push_tested_or_touched() {
     // Invariant: with a person pacing between the robot and the barrier for the whole run (they stop short of the robot and wait, as people do), the robot reaches the goal without push-testing them (every verdict right against the truth: a person would read static) and without touching them, and keeps no ghost.
     assert_safe_and_clean("person-pacing", 1);

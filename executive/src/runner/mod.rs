@@ -16,6 +16,7 @@ mod navigate;
 mod outline;
 mod push;
 mod rank;
+mod recheck;
 mod report;
 mod search_space;
 mod unseen;

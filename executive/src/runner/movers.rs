@@ -58,7 +58,7 @@ const ARRIVED_ON_FREE: f64 = 1.0 / 3.0;
 /// free is a thin surface seen obliquely — a wall whose hull is a wedge over the floor in front of it
 /// (1.35 m in one generated room), or the room's own wall, whose face cells the grid saw crossed by
 /// grazing rays (4 m in another) — and taken for a person, it shut off every push near it.
-const PERSON_EXTENT: f64 = 1.2;
+pub(super) const PERSON_EXTENT: f64 = 1.2;
 
 /// How far outside a footprint an arrived point still counts as the obstacle's (m): the footprint is
 /// a hull of 4 cm elevation cells, and its own points lie up to a cell from its outline.

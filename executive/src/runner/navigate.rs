@@ -262,7 +262,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     if (p - self.config.goal).norm()
                         <= self.config.goal_tolerance + ARRIVAL_SLACK =>
                 {
-                    Event::Arrived
+                    match self.recheck_at_goal() {
+                        Ok(()) => Event::Arrived,
+                        Err(i) => i.into(),
+                    }
                 }
                 Ok(p) => Event::PathInvalidated {
                     reason: format!(

@@ -1,0 +1,148 @@
+//! The last look before a run ends at the goal: where people walked about, what the robot
+//! remembers that may have been someone standing is looked at once more, and what the grid then
+//! sees gone is forgotten.
+//!
+//! A person who stood still through a look becomes an obstacle like a chair, and one seen moving is
+//! kept while out of view (see [`super::movers`]); either may walk off where no later frame looks.
+//! The walk's frames look ahead along the path, not back at what it went round, so the memory the
+//! run hands over would keep them as ghosts. The glances go into the grid like every other frame,
+//! and the grid's rules ([`Runner::reconcile`]) forget what they show gone; nothing new is built
+//! from them.
+
+use nalgebra::Point2;
+use nudge_perception::{ObjectId, Prism};
+
+use super::movers::PERSON_EXTENT;
+use super::navigate::wrap;
+use super::{Interrupt, Runner};
+use crate::record::{LogLevel, Observer};
+use crate::robot::Robot;
+
+impl<R: Robot, O: Observer> Runner<R, O> {
+    /// Looks once at each remembered obstacle that may have been a person ([`Self::may_be_person`])
+    /// within the camera's range, when the run saw people about; turns the base where the head's
+    /// pan cannot reach one. Leaves the head in the walking view.
+    pub(crate) fn recheck_at_goal(&mut self) -> Result<(), Interrupt> {
+        if !self.people_about() {
+            return Ok(());
+        }
+        let base = self.robot.base_pose()?.value;
+        let here = Point2::from(base.translation.vector);
+        // One sweep leftwards from the head's rightmost pan: what the head reaches first, then
+        // round behind, so the base turns at most once round.
+        let right = self.config.model.head.pan_limits[0];
+        let sweep = |p: &Prism| {
+            p.centroid().map_or(0.0, |c| {
+                let rel = c - here;
+                (rel.y.atan2(rel.x) - base.rotation.angle() - right)
+                    .rem_euclid(std::f64::consts::TAU)
+            })
+        };
+        let mut asked: Vec<(f64, ObjectId)> = self
+            .world
+            .prisms
+            .iter()
+            .filter(|p| self.may_be_person(p, &here))
+            .map(|p| (sweep(p), p.id))
+            .collect();
+        asked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let asked: Vec<ObjectId> = asked.into_iter().map(|(_, id)| id).collect();
+        if asked.is_empty() {
+            return Ok(());
+        }
+        // Frames are stamped by the robot's clock, the floor's memory by the time let pass.
+        let (clock, elapsed) = (self.robot.now(), self.robot.elapsed());
+        for id in &asked {
+            // An earlier glance may have shown this one gone already.
+            let Some(at) = self
+                .world
+                .prisms
+                .iter()
+                .find(|p| p.id == *id)
+                .and_then(Prism::centroid)
+            else {
+                continue;
+            };
+            self.glance_at(at)?;
+            self.forget_looked_gone(&asked, clock, elapsed);
+        }
+        self.robot
+            .start_point_head(0.0, self.config.grid.watch_tilt)?;
+        self.wait(|r| r.head_status())?;
+        Ok(())
+    }
+
+    /// Forgets the obstacles among `asked` that the glances since `clock` (the robot's clock;
+    /// `elapsed`, the same moment as time let pass) showed gone: a tall one whose cells their rays
+    /// crossed without a return ([`super::world::WorldModel::grid_saw_it_gone`]); one no taller
+    /// than the grid's clearing height, under which its rays prove nothing, once they saw bare floor
+    /// in half its cells.
+    fn forget_looked_gone(&mut self, asked: &[ObjectId], clock: f64, elapsed: f64) {
+        let low = self.config.grid.reduction.clear_height;
+        let world = &self.world;
+        let gone: Vec<ObjectId> = world
+            .prisms
+            .iter()
+            .filter(|p| asked.contains(&p.id))
+            .filter(|p| {
+                if p.z_max > low {
+                    world.grid_saw_it_gone(p, clock)
+                } else {
+                    world.floor_seen_since(p, elapsed)
+                }
+            })
+            .map(|p| p.id)
+            .collect();
+        if gone.is_empty() {
+            return;
+        }
+        self.world.prisms.retain(|p| !gone.contains(&p.id));
+        let ids: Vec<String> = gone.iter().map(ToString::to_string).collect();
+        let stamp = self.robot.now();
+        self.observer.note(
+            stamp,
+            LogLevel::Info,
+            &format!(
+                "forgotten at the goal: {} (looked at again and gone)",
+                ids.join(", ")
+            ),
+        );
+    }
+
+    /// Whether `prism` may have been someone standing: nothing the robot tested, moved or found
+    /// static, no larger than people ([`PERSON_EXTENT`]), and within the camera's range of where
+    /// the robot stands, `here`.
+    fn may_be_person(&self, prism: &Prism, here: &Point2<f64>) -> bool {
+        self.world.untouched(prism.id)
+            && prism.extent() <= PERSON_EXTENT
+            && prism.distance_xy(here) <= self.config.model.camera.max_range
+    }
+
+    /// Points the camera at the floor at `at` (turning the base first where the head's pan cannot
+    /// reach) and takes one frame into the grid, tilted no further down than the grid takes frames.
+    fn glance_at(&mut self, at: Point2<f64>) -> Result<(), Interrupt> {
+        let base = self.robot.base_pose()?.value;
+        let rel = at - Point2::from(base.translation.vector);
+        let bearing = rel.y.atan2(rel.x);
+        let [right, left] = self.config.model.head.pan_limits;
+        let mut pan = wrap(bearing - base.rotation.angle());
+        if pan < right || pan > left {
+            self.turn_to(bearing)?;
+            let yaw = self.robot.base_pose()?.value.rotation.angle();
+            pan = wrap(bearing - yaw).clamp(right, left);
+        }
+        let tilt = self
+            .config
+            .model
+            .head
+            .height
+            .atan2(rel.norm().max(0.1))
+            .min(self.config.grid.watch_tilt);
+        self.robot.start_point_head(pan, tilt)?;
+        self.wait(|r| r.head_status())?;
+        let cloud = self.robot.capture()?;
+        self.observer.cloud(&cloud);
+        self.sense(&cloud, true);
+        Ok(())
+    }
+}
