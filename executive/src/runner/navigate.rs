@@ -19,6 +19,38 @@ use crate::robot::{ActionStatus, Robot, WalkOutcome};
 /// Farthest the robot steps to get clear of an obstacle that seems to overlap it (m).
 const ESCAPE_RADIUS: f64 = 0.25;
 
+/// Where a push test's stroke must lie from the body for the arm to make it (m).
+struct Reach {
+    /// The farthest ahead of the body axis the stroke may end.
+    ahead: f64,
+    /// The arm's sideways reach, right then left.
+    side: (f64, f64),
+}
+
+impl Reach {
+    /// Whether a body stopped at `at`, short of the stand pose `stand` of a push along `d` whose
+    /// hand meets the object at `contact`, can make the push test from there once turned to face
+    /// `d`: it has not passed the stand pose, the stroke ends within the arm's reach ahead, and its
+    /// line lies within the arm's reach to the side (each within
+    /// [`super::push::LATERAL_SLACK`], what the arm absorbs of a missed pose).
+    fn pushes_from(
+        &self,
+        at: &Point2<f64>,
+        stand: &Point2<f64>,
+        d: &Vector2<f64>,
+        contact: &Point2<f64>,
+    ) -> bool {
+        let slack = super::push::LATERAL_SLACK;
+        let (right, left) = self.side;
+        // The contact to the body's left when it faces `d`.
+        let side = d.perp(&(contact - at));
+        (at - stand).dot(d) <= slack
+            && (contact - at).dot(d) <= self.ahead
+            && side >= right - slack
+            && side <= left + slack
+    }
+}
+
 /// The free position nearest `here` within [`ESCAPE_RADIUS`], searched on rings 5 cm apart with 32
 /// bearings each (deterministic), if any.
 pub(super) fn nearest_free(
@@ -659,18 +691,20 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         } else {
             self.walk(path.waypoints())
         };
-        // A walk the base stopped on the push's line, short of the stand pose, has arrived where the
-        // stroke still ends within the arm's reach: the object's face stands nearer than its hull
-        // (the base keeps its margin from it), and the push test meets the face where it is.
+        // A walk the base stopped short of the stand pose has arrived where, facing the push, the
+        // stroke still ends within the arm's reach ahead and its line within the arm's reach to the
+        // side: the object's face stands nearer than its hull (the base keeps its margin from it),
+        // and the push test meets the face where it is. The stroke follows the planned line
+        // whatever the body's place (the hand goes to the planned contact in the body's frame), so
+        // a stop beside the stand pose moves the hand sideways on the arm, not the contact.
         let d = intent.direction.into_inner();
-        let contact_ahead = (self.planned_contact(intent) - stand).dot(&d);
-        let reach = self.config.model.arm.reach_x[1] - self.config.push_motion.test_travel;
+        let reach = Reach {
+            ahead: self.config.model.arm.reach_x[1] - self.config.push_motion.test_travel,
+            side: self.config.push.reach_y,
+        };
+        let contact = self.planned_contact(intent);
         let arrived = |at: &nalgebra::Isometry2<f64>| {
-            let off = Point2::from(at.translation.vector) - stand;
-            let (along, across) = (off.dot(&d), off.perp(&d));
-            across.abs() <= super::push::LATERAL_SLACK
-                && along <= super::push::LATERAL_SLACK
-                && contact_ahead - along <= reach
+            reach.pushes_from(&Point2::from(at.translation.vector), &stand, &d, &contact)
         };
         let there = match &walked {
             Ok(WalkOutcome::Arrived) => true,
@@ -791,6 +825,26 @@ pub(super) mod tests {
         );
         // The face 0.1 m behind the robot's centre: 0.45 m of overlap, more than the radius.
         assert_eq!(nearest_free(&here, &validity_with_box(-0.1, 0.35)), None);
+    }
+
+    #[test]
+    fn a_walk_stopped_short_of_its_stand_pose_has_arrived_where_the_arm_still_reaches_the_stroke() {
+        // Invariant: a walk to a push pose stopped short of it has arrived when, facing the push, the stroke still ends within the arm's reach ahead and its line lies within the arm's reach to the side: 4 cm short and 5 cm beside the pose of a diagonal push (`long-hall` seed 25's table) has; a stop that leaves the contact past the forward reach, one that puts the line past the side reach, and one past the stand pose have not.
+        let reach = Reach {
+            ahead: 0.65,
+            side: (-0.4, 0.4),
+        };
+        let d = Vector2::new(-0.7728, 0.6346).normalize();
+        let stand = Point2::new(8.5009, 0.8967);
+        let contact = stand + d * 0.48;
+        let stopped = Point2::new(8.4982, 0.8350);
+        assert!(reach.pushes_from(&stopped, &stand, &d, &contact));
+        let far_short = stand - d * 0.25;
+        assert!(!reach.pushes_from(&far_short, &stand, &d, &contact));
+        let beside = stand + Vector2::new(-d.y, d.x) * 0.45;
+        assert!(!reach.pushes_from(&beside, &stand, &d, &contact));
+        let past = stand + d * 0.05;
+        assert!(!reach.pushes_from(&past, &stand, &d, &contact));
     }
 
     #[test]
