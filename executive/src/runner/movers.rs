@@ -333,6 +333,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             })
             .map(|p| p.id)
             .collect();
+        self.forget(
+            &gone,
+            "seen moving and out of sight too long or looked at and gone, or the grid sees floor all over where they stood",
+        );
+    }
+
+    /// Forgets the obstacles `gone` and notes them, with `why`; nothing when there are none.
+    pub(super) fn forget(&mut self, gone: &[ObjectId], why: &str) {
         if gone.is_empty() {
             return;
         }
@@ -342,10 +350,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         self.observer.note(
             stamp,
             LogLevel::Info,
-            &format!(
-                "forgotten: {} (seen moving and out of sight too long or looked at and gone, or the grid sees floor all over where they stood)",
-                ids.join(", ")
-            ),
+            &format!("forgotten: {} ({why})", ids.join(", ")),
         );
     }
 

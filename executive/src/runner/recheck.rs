@@ -15,7 +15,7 @@ use nudge_perception::{ObjectId, Prism};
 use super::movers::PERSON_EXTENT;
 use super::navigate::wrap;
 use super::{Interrupt, Runner};
-use crate::record::{LogLevel, Observer};
+use crate::record::Observer;
 use crate::robot::Robot;
 
 impl<R: Robot, O: Observer> Runner<R, O> {
@@ -93,20 +93,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             })
             .map(|p| p.id)
             .collect();
-        if gone.is_empty() {
-            return;
-        }
-        self.world.prisms.retain(|p| !gone.contains(&p.id));
-        let ids: Vec<String> = gone.iter().map(ToString::to_string).collect();
-        let stamp = self.robot.now();
-        self.observer.note(
-            stamp,
-            LogLevel::Info,
-            &format!(
-                "forgotten at the goal: {} (looked at again and gone)",
-                ids.join(", ")
-            ),
-        );
+        self.forget(&gone, "at the goal: looked at again and gone");
     }
 
     /// Whether `prism` may have been someone standing: nothing the robot tested, moved or found
