@@ -9,8 +9,8 @@ use nudge_perception::grid::{
 };
 use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
 
-use super::Runner;
 use super::config::GridSetup;
+use super::{Interrupt, Runner};
 use crate::push_test::Verdict;
 use crate::record::{GridView, LogLevel, Observer};
 use crate::robot::Robot;
@@ -356,6 +356,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.observer.note(stamp, LogLevel::Warning, &e);
             }
         }
+    }
+
+    /// Captures a frame, shows it to the observer and folds it into the grid ([`Self::sense`], with
+    /// `motion`).
+    pub(crate) fn take_frame(&mut self, motion: bool) -> Result<ColourCloud, Interrupt> {
+        let cloud = self.robot.capture()?;
+        self.observer.cloud(&cloud);
+        self.sense(&cloud, motion);
+        Ok(cloud)
     }
 
     /// Folds one captured frame into the grid, unless the camera looked down too steeply (see

@@ -47,9 +47,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             self.robot
                 .start_point_head(view.pan_deg.to_radians(), view.tilt_deg.to_radians())?;
             self.wait(|r| r.head_status())?;
-            let cloud = self.robot.capture()?;
-            self.observer.cloud(&cloud);
-            self.sense(&cloud, true);
+            let cloud = self.take_frame(true)?;
             self.world.views.push(cloud);
         }
         self.publish_grid();

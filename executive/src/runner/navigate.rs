@@ -40,14 +40,11 @@ impl Reach {
         d: &Vector2<f64>,
         contact: &Point2<f64>,
     ) -> bool {
-        let slack = super::push::LATERAL_SLACK;
-        let (right, left) = self.side;
         // The contact to the body's left when it faces `d`.
         let side = d.perp(&(contact - at));
-        (at - stand).dot(d) <= slack
+        (at - stand).dot(d) <= super::push::LATERAL_SLACK
             && (contact - at).dot(d) <= self.ahead
-            && side >= right - slack
-            && side <= left + slack
+            && super::push::reaches_lateral(side, self.side)
     }
 }
 
@@ -358,9 +355,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
             if self.robot.now() >= next_frame {
                 next_frame += self.config.grid.watch_period;
-                let cloud = self.robot.capture()?;
-                self.observer.cloud(&cloud);
-                self.sense(&cloud, true);
+                self.take_frame(true)?;
                 self.publish_grid();
                 // Miyazaki's search space: someone moving in the way ahead stops the walk until
                 // they have passed (see `search_space.rs`).
@@ -388,9 +383,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// Whether a fresh frame shows something moving in the search space ahead along `waypoints`
     /// from where the robot stands (see [`Self::search_space_occupied`]).
     fn blocked_by_someone(&mut self, waypoints: &[Point2<f64>]) -> Result<bool, Interrupt> {
-        let cloud = self.robot.capture()?;
-        self.observer.cloud(&cloud);
-        self.sense(&cloud, true);
+        self.take_frame(true)?;
         let here = self.position()?;
         let ahead = super::unseen::rest_of_path(waypoints, here);
         Ok(self.search_space_occupied(&ahead))
@@ -426,9 +419,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         loop {
             if self.robot.now() >= next_frame {
                 next_frame += self.config.grid.watch_period;
-                let cloud = self.robot.capture()?;
-                self.observer.cloud(&cloud);
-                self.sense(&cloud, true);
+                self.take_frame(true)?;
                 let here = self.position()?;
                 let ahead = super::unseen::rest_of_path(waypoints, here);
                 if !self.search_space_occupied(&ahead) {
@@ -489,9 +480,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .clamp(self.config.grid.watch_tilt, steepest);
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;
-        let cloud = self.robot.capture()?;
-        self.observer.cloud(&cloud);
-        self.sense(&cloud, true);
+        let cloud = self.take_frame(true)?;
         self.robot
             .start_point_head(0.0, self.config.grid.watch_tilt)?;
         self.wait(|r| r.head_status())?;
@@ -586,9 +575,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.tick()?;
             }
             next += period;
-            let cloud = self.robot.capture()?;
-            self.observer.cloud(&cloud);
-            self.sense(&cloud, true);
+            self.take_frame(true)?;
         }
         self.publish_grid();
         Ok(())

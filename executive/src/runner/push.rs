@@ -661,9 +661,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         };
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;
-        let cloud = self.robot.capture()?;
-        self.observer.cloud(&cloud);
-        self.sense(&cloud, false);
+        let cloud = self.take_frame(false)?;
         Ok(cloud.to_map())
     }
 }
@@ -762,6 +760,12 @@ fn on_segment(p: Point3<f64>, a: Point3<f64>, b: Point3<f64>) -> Point3<f64> {
     let ab = b - a;
     let t = ((p - a).dot(&ab) / ab.norm_squared().max(1e-12)).clamp(0.0, 1.0);
     a + ab * t
+}
+
+/// Whether the arm, with a walk's error absorbed, reaches a line `y` to the side (`base_link`): within
+/// `reach` or at most [`LATERAL_SLACK`] outside it, where [`clamp_lateral`] moves it onto the edge.
+pub(super) fn reaches_lateral(y: f64, (lo, hi): (f64, f64)) -> bool {
+    y >= lo - LATERAL_SLACK && y <= hi + LATERAL_SLACK
 }
 
 /// `y` moved onto the nearer edge of `reach` when it lies at most [`LATERAL_SLACK`] outside it;

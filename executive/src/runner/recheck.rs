@@ -127,9 +127,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .min(self.config.grid.watch_tilt);
         self.robot.start_point_head(pan, tilt)?;
         self.wait(|r| r.head_status())?;
-        let cloud = self.robot.capture()?;
-        self.observer.cloud(&cloud);
-        self.sense(&cloud, true);
+        self.take_frame(true)?;
         Ok(())
     }
 }
