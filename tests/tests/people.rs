@@ -19,13 +19,20 @@ fn run(name: &str, seed: u64) -> (RunReport, SimRobot) {
     (report, robot)
 }
 
-/// Asserts the run reached the goal, touched nobody, kept no ghost and judged every object right.
+/// Asserts the run reached the goal and ended there, touched nobody, kept no ghost and judged every object right.
 fn assert_safe_and_clean(name: &str, seed: u64) {
     let (report, robot) = run(name, seed);
     assert!(
         matches!(report.outcome, State::Goal),
         "{name} seed {seed}: {:?}",
         report.outcome
+    );
+    // The executive counts an arrival up to 5 cm past the tolerance: the walk's own error.
+    let goal = nudge_tests::scenario(name).expect("scenario loads").goal;
+    let at = nalgebra::Point2::from(robot.world().humanoid().base_pose().translation.vector);
+    assert!(
+        (at - goal.centre()).norm() <= goal.tolerance + 0.05,
+        "{name} seed {seed}: ended at {at:?}, outside the goal region"
     );
     let effort = robot.world().effort();
     assert_eq!(
@@ -62,6 +69,18 @@ fn four_wanderers_are_waited_for_and_leave_no_ghost() {
 fn someone_who_stood_through_a_look_and_walked_off_unseen_is_looked_at_again_and_forgotten() {
     // Invariant: a wanderer who stood still through the robot's second look (kept as an obstacle like any other, never seen moving) and walked off while the robot walked on past them is looked at again from the goal and forgotten: the run keeps no obstacle where the truth has nothing (without the goal's glances seed 2 kept obj-32 at (5.19, 3.62), behind the robot), touches nobody and judges every object right.
     assert_safe_and_clean("four-wanderers", 2);
+}
+
+#[test]
+fn someone_who_stood_beyond_the_floor_seen_from_the_goal_is_walked_towards_and_forgotten() {
+    // Invariant: a wanderer who stood through a look 5.3 m from the goal (farther than the 4.8 m of floor the camera returns from there) and walked off is looked at again from a step towards them and forgotten, and the robot walks back into the goal region: the run keeps no ghost (without the closer look seed 11 kept obj-34 at (1.78, 3.69)), touches nobody and judges every object right.
+    assert_safe_and_clean("four-wanderers", 11);
+}
+
+#[test]
+fn someone_hidden_behind_a_passer_by_at_the_goals_glance_is_looked_at_again() {
+    // Invariant: when a walker passes between the goal and a remembered person-sized obstacle just as the robot glances at it (seed 22: obj-23 at (2.81, 4.49), hidden by walker-3), the robot glances again once they have passed and forgets what is gone: no ghost, no contact, every verdict right.
+    assert_safe_and_clean("four-wanderers", 22);
 }
 
 #[test]

@@ -269,6 +269,32 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         Ok(self.config.shortcut.shorten(&path, validity, &mut self.rng))
     }
 
+    /// Walks from where the robot stands to `target`, or into the goal region when `None`, on a
+    /// path planned among the latest obstacles, watching as every walk does (people in the way
+    /// are waited for; a cell on the path the grid sees turn into an obstacle stops it); whether it
+    /// got there. Leaves the run's own path to the goal as it was.
+    pub(super) fn walk_to(&mut self, target: Option<Point2<f64>>) -> Result<bool, Interrupt> {
+        let here = self.position()?;
+        let Ok(path) = self.plan_to(here, target) else {
+            return Ok(false);
+        };
+        let stamp = self.robot.now();
+        self.observer.path(stamp, path.waypoints());
+        self.watch_path(path.waypoints());
+        let arrived = match self.walk_watching(path.waypoints(), false, true)? {
+            Watched::Walked(outcome) => matches!(outcome, WalkOutcome::Arrived),
+            Watched::Replan(_) | Watched::Unseen(_) => {
+                self.robot.stop_walk()?;
+                self.wait(|r| r.walk_status())?;
+                false
+            }
+        };
+        if let Some(path) = self.world.path.clone() {
+            self.watch_path(path.waypoints());
+        }
+        Ok(arrived)
+    }
+
     /// Walks the planned path to the goal; with `stop_at_unseen`, stops before floor under the path
     /// that the walking camera will not see in time.
     pub(crate) fn follow_path(&mut self, stop_at_unseen: bool) -> Event {
@@ -292,7 +318,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                         <= self.config.goal_tolerance + ARRIVAL_SLACK =>
                 {
                     match self.recheck_at_goal() {
-                        Ok(()) => Event::Arrived,
+                        Ok(true) => Event::Arrived,
+                        Ok(false) => Event::PathInvalidated {
+                            reason: "walked off the goal to look closer and did not get back"
+                                .into(),
+                        },
                         Err(i) => i.into(),
                     }
                 }

@@ -114,9 +114,18 @@ impl WorldModel {
             .iter()
             .filter(|c| after(grid.last_crossed(**c)))
             .count();
-        !cells.is_empty()
-            && 2 * crossed >= cells.len()
-            && !cells.iter().any(|c| after(grid.last_hit(*c)))
+        !cells.is_empty() && 2 * crossed >= cells.len() && !self.grid_saw_it_there(prism, since)
+    }
+
+    /// Whether a frame after `since` (the robot's clock) returned from a cell `prism`'s footprint
+    /// overlaps: something stood there then.
+    pub(super) fn grid_saw_it_there(&self, prism: &Prism, since: f64) -> bool {
+        let Some(grid) = &self.grid else {
+            return false;
+        };
+        self.cells_overlapped(prism)
+            .iter()
+            .any(|c| grid.last_hit(*c).is_some_and(|t| t > since))
     }
 
     /// Whether floor was seen, after `since` (robot time let pass), in at least half of the grid
