@@ -12,8 +12,9 @@
 //! What the glances could not show — someone who stood beyond the floor the camera returns from
 //! the goal, or behind a passer-by at the moment of the glance — is looked at once more from
 //! nearer: from where the robot stands when that is near enough, else from a step towards it.
-//! The robot then walks back into the goal region. A run walks off the goal for this at most once,
-//! and no farther than the walk one look-around's time buys there and back.
+//! The robot then walks back into the goal region. It walks off the goal for this only on its
+//! first arrival (an arrival after a failed way back only glances), and each place it looks from
+//! lies no farther from the goal than it walks in one look-around's time.
 
 use nalgebra::Point2;
 use nudge_perception::{ObjectId, Prism};

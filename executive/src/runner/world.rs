@@ -61,8 +61,8 @@ pub(crate) struct WorldModel {
     pub looks: Vec<Point2<f64>>,
     /// How long the last look-around took (robot time, s): what the view planner weighs a look at.
     pub look_time: f64,
-    /// Whether the robot has walked off the goal once to look closer at what may have been people
-    /// (see `recheck.rs`): a run does so at most once.
+    /// Whether the robot has walked off the goal to look closer at what may have been people (see
+    /// `recheck.rs`): it does so on one arrival only.
     pub looked_closer: bool,
     /// Per obstacle, when a look's detections last showed it, as robot time let pass
     /// ([`super::watchdog::Watchdog::elapsed`]): an obstacle that may be a person is forgotten
