@@ -31,6 +31,9 @@ pub struct Knowledge {
     pub waits: BTreeMap<ObjectId, u32>,
     /// Looks taken because a push test's hand met nothing where the object was seen, per object.
     pub misses: BTreeMap<ObjectId, u32>,
+    /// Objects that gave way to a push test's hand where colour ICP could not measure them: they
+    /// were looked at again before being tested again, once each.
+    pub moved_unmeasured: BTreeSet<ObjectId>,
     /// Viewpoints asked for because a push of the object needed floor not yet seen, per object.
     pub looks_for: BTreeMap<ObjectId, u32>,
     /// Objects whose push may stand on or sweep over floor nobody has seen: no viewpoint could show
@@ -131,6 +134,11 @@ pub enum Edge {
     /// something that moved during the look, or a misplaced obstacle): look again, once per object,
     /// rather than push at empty space.
     NothingThere,
+    /// PushTest → LookAround: the object gave way to the hand (its stroke under the force limit)
+    /// but colour ICP could not measure it: it moved, and may have turned, so a retest along the
+    /// same line would meet it where it no longer stands. Look again, once per object, and test it
+    /// where it now is.
+    MovedUnmeasured,
     /// PushTest → SelectCandidate: ambiguous twice, taken as static.
     AmbiguousTwice,
     /// PushTest → ClearPath (as [`Edge::FoundMovable`]): ambiguous twice, but in both tests the hand
@@ -171,7 +179,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 49] = [
+    pub const ALL: [Edge; 50] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -206,6 +214,7 @@ impl Edge {
         Edge::FoundMovable,
         Edge::Retest,
         Edge::NothingThere,
+        Edge::MovedUnmeasured,
         Edge::AmbiguousTwice,
         Edge::YieldedTwice,
         Edge::MissedTwice,
@@ -962,6 +971,24 @@ fn conclude_push_test(
                 k,
                 vec![Command::LookAround],
                 Edge::NothingThere,
+            )
+        }
+        // A retest along the first test's line meets an object that slid and turned where it no
+        // longer stands: a chair turned 27° was met edge-on, leaning 66°, and two ambiguous tests
+        // read static.
+        Finding::Ambiguous(Ambiguity::IcpFailed)
+            if attempt < 2
+                && config
+                    .classifier
+                    .gave_way(evidence.reached_limit, evidence.hand_travel)
+                && !k.moved_unmeasured.contains(&target) =>
+        {
+            k.moved_unmeasured.insert(target);
+            step(
+                State::LookAround,
+                k,
+                vec![Command::LookAround],
+                Edge::MovedUnmeasured,
             )
         }
         Finding::Ambiguous(Ambiguity::NoContact)

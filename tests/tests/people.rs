@@ -94,3 +94,36 @@ fn a_walk_the_pacer_blocks_is_waited_out_and_not_held_against_the_object() {
     // Invariant: when the pacer steps into the robot's way to a push pose and the base stops short, the robot waits for them and walks on (Miyazaki's stop and return) rather than counting the object's approach as blocked (on seed 10 two such blocks per chair once left no candidate and ended in no path): it reaches the goal, touches nobody, keeps no ghost and judges every object right.
     assert_safe_and_clean("person-pacing", 10);
 }
+
+#[test]
+fn a_chair_that_slid_and_turned_unmeasured_is_tested_again_where_it_now_stands() {
+    // Invariant: with the push test below tipping, person-pacing seed 8's chair-2 slides 156 mm and turns 27° under the test's hand while its colour ICP does not converge; the robot looks again before testing it again, so the next test pushes the face where the chair now stands and reads it movable, as the truth has it (before, the retest met the turned chair edge-on at the limit and two ambiguous tests called it static), and the run reaches the goal touching nobody.
+    let scenario = nudge_tests::scenario("person-pacing").expect("scenario loads");
+    let mut config = nudge_sim::run::run_config(&scenario, 8, CandidatePolicy::Nearest);
+    config.push.test_below_tipping = true;
+    let robot = SimRobot::new(&scenario, 8).expect("world builds");
+    let mut runner = nudge_executive::Runner::new(robot, NullObserver, config);
+    let report = runner.run();
+    let (robot, _) = runner.into_parts();
+    print_timeline(&report);
+    let tests = &report.knowledge.explanation.tests;
+    assert!(
+        tests.iter().any(|t| matches!(
+            t.finding,
+            nudge_executive::push_test::Finding::Ambiguous(
+                nudge_executive::push_test::Ambiguity::IcpFailed
+            )
+        ) && !t.reached_limit),
+        "the chair no longer slides unmeasured: {tests:?}"
+    );
+    assert!(
+        matches!(report.outcome, State::Goal),
+        "{:?}",
+        report.outcome
+    );
+    for s in score(&report, &robot) {
+        assert!(s.correct, "person-pacing seed 8: {s:?}");
+    }
+    let effort = robot.world().effort();
+    assert_eq!((effort.people_contacts, effort.pushed_into_people), (0, 0));
+}
