@@ -144,7 +144,8 @@ const STUCK_DISTANCE: f64 = 0.02;
 const ARRIVAL_SLACK: f64 = 0.05;
 
 impl<R: Robot, O: Observer> Runner<R, O> {
-    fn position(&mut self) -> Result<Point2<f64>, Interrupt> {
+    /// Where the robot stands (map frame).
+    pub(super) fn position(&mut self) -> Result<Point2<f64>, Interrupt> {
         let pose = self.robot.base_pose()?.value;
         Ok(Point2::from(pose.translation.vector))
     }

@@ -27,7 +27,7 @@ use crate::robot::Robot;
 
 impl<R: Robot, O: Observer> Runner<R, O> {
     /// Looks once at each remembered obstacle that may have been a person ([`Self::may_be_person`])
-    /// within the camera's range, when the run saw people about; turns the base where the head's
+    /// within the camera's range of where the robot stands, when the run saw people about; turns the base where the head's
     /// pan cannot reach one. Then looks closer at what the glances left unknown
     /// ([`Self::look_closer`]). Leaves the head in the walking view; whether the robot stands in
     /// the goal region at the end.
@@ -51,7 +51,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             .world
             .prisms
             .iter()
-            .filter(|p| self.may_be_person(p, &here))
+            .filter(|p| {
+                self.may_be_person(p) && p.distance_xy(&here) <= self.config.model.camera.max_range
+            })
             .map(|p| (sweep(p), p.id))
             .collect();
         asked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -82,7 +84,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Looks again, nearer, at each obstacle that may have been someone standing
-    /// ([`Self::may_be_person`] but for the range, and not the room's structure: what lies at the
+    /// ([`Self::may_be_person`], and not the room's structure: what lies at the
     /// edge of everything seen is a wall's end or a corner, which the camera cannot reach from the
     /// goal however long it looks) which no frame since `clock` showed either gone or there,
     /// nearest first: from where the robot stands when the camera returns floor out past its
@@ -97,16 +99,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         } else {
             self.detour()
         };
+        let reach = self.proof_reach();
         let mut asked: Vec<(f64, ObjectId)> = self
             .world
             .prisms
             .iter()
-            .filter(|p| self.world.untouched(p.id) && p.extent() <= PERSON_EXTENT)
+            .filter(|p| self.may_be_person(p))
             .filter(|p| !self.world.is_structure(p, &self.config))
             .filter(|p| !self.world.grid_saw_it_there(p, clock))
             .filter_map(|p| {
                 let d = (p.centroid()? - goal).norm();
-                (d <= self.proof_reach() + detour).then_some((d, p.id))
+                (d <= reach + detour).then_some((d, p.id))
             })
             .collect();
         asked.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -122,9 +125,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             let Some(at) = prism.centroid() else {
                 continue;
             };
-            let reach = self.proof_reach();
-            let here = Point2::from(self.robot.base_pose()?.value.translation.vector);
-            let away = here - at;
+            let away = self.position()? - at;
             if away.norm() > reach {
                 let from = at + away.normalize() * reach;
                 if (from - goal).norm() > detour {
@@ -206,12 +207,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Whether `prism` may have been someone standing: nothing the robot tested, moved or found
-    /// static, no larger than people ([`PERSON_EXTENT`]), and within the camera's range of where
-    /// the robot stands, `here`.
-    fn may_be_person(&self, prism: &Prism, here: &Point2<f64>) -> bool {
-        self.world.untouched(prism.id)
-            && prism.extent() <= PERSON_EXTENT
-            && prism.distance_xy(here) <= self.config.model.camera.max_range
+    /// static, and no larger than people ([`PERSON_EXTENT`]).
+    fn may_be_person(&self, prism: &Prism) -> bool {
+        self.world.untouched(prism.id) && prism.extent() <= PERSON_EXTENT
     }
 
     /// Points the camera at the floor at `at` (turning the base first where the head's pan cannot
