@@ -38,8 +38,8 @@ pub use path::{Path, PathError};
 pub use planner::{Budget, NoPath, Planner, rrt::Rrt, rrt_connect::RrtConnect, shortcut::Shortcut};
 pub use problem::{GoalRegion, Problem, ProblemError};
 pub use push::{
-    PushConfig, PushError, PushPlan, RunsInto, SweptPush, plan_of_swept, plan_push, plan_push_over,
-    swept_pushes,
+    PushConfig, PushError, PushPlan, RunsInto, SweptPush, plan_of_swept, plan_push,
+    plan_push_among, plan_push_over, swept_pushes,
 };
 pub use reach::certainly_unreachable;
 pub use seen_floor::{AllSeen, FloorCheck, SeenFloor, shadow_length};

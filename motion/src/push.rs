@@ -238,6 +238,8 @@ struct PushScene<'a, 'v> {
     goal: &'a GoalRegion,
     config: &'a PushConfig,
     floor: Option<FloorCheck<'a>>,
+    /// The other obstacles known to move (see [`plan_push_among`]).
+    movers: &'a [ObjectId],
     /// The flood fills' memo of `validity`: every push's "does it open the way" asks it again with
     /// only the object moved.
     reach: &'a RefCell<ReachMemo<'v>>,
@@ -300,6 +302,8 @@ struct Candidate {
     distance: f64,
     displaced: Vec<Point2<f64>>,
     path_after: Option<Path>,
+    /// Whether this push leaves the way to the others known to move (see [`plan_push_among`]).
+    leaves_way: LeavesWay,
 }
 
 /// Plans a push of `prism` for a robot at `robot` that wants to reach `goal` in `validity`'s world,
@@ -315,9 +319,16 @@ pub fn plan_push(
     plan_push_over(prism, validity, robot, goal, config, None, rng)
 }
 
-/// Plans a push like [`plan_push`], keeping the stand pose on seen floor and the sweep on seen floor
-/// or in the object's own shadow when `floor` is given. [`PushError::UnseenFloor`] when pushes exist
-/// but each needs floor not yet seen.
+/// Whether a push that does not open the way leaves it to be opened by moving the others known to
+/// move: `Shut` when, with them gone, the goal is still certainly unreachable (a flood fill).
+/// Ordered worst first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum LeavesWay {
+    Shut,
+    Open,
+}
+
+/// Plans a push like [`plan_push_among`], with no other obstacle known to move.
 pub fn plan_push_over(
     prism: &Prism,
     validity: &Validity,
@@ -325,6 +336,34 @@ pub fn plan_push_over(
     goal: &GoalRegion,
     config: &PushConfig,
     floor: Option<FloorCheck<'_>>,
+    rng: &mut ChaCha8Rng,
+) -> Result<PushPlan, PushError> {
+    plan_push_among(prism, validity, robot, goal, config, floor, &[], rng)
+}
+
+/// Plans a push like [`plan_push`], keeping the stand pose on seen floor and the sweep on seen floor
+/// or in the object's own shadow when `floor` is given. [`PushError::UnseenFloor`] when pushes exist
+/// but each needs floor not yet seen.
+///
+/// When no push opens the way, the one chosen is the shortest, in face order, among those that
+/// leave the way to `movers` (the other obstacles known to move: a push test said so): after it,
+/// with them gone, the goal is not certainly unreachable (a flood fill); the shortest of all when
+/// none does. A push that opens nothing is a step (a push test, or one clearing push of several
+/// with a look between): the object still stands in the way, and the next steps move it or the
+/// others. A step that leaves it where moving the others cannot get past it (into the gap of a
+/// doorway another box has just left) must be undone by a later one, when one can be made at all
+/// (a box pushed along a doorway is pushed back only from the doorway's far side). Obstacles not
+/// yet tested are not counted on: taking them away too leaves most steps open in a cluttered room
+/// (a partition's untested end), and changes which steps are taken where nothing is known yet.
+#[allow(clippy::too_many_arguments)]
+pub fn plan_push_among(
+    prism: &Prism,
+    validity: &Validity,
+    robot: &Point2<f64>,
+    goal: &GoalRegion,
+    config: &PushConfig,
+    floor: Option<FloorCheck<'_>>,
+    movers: &[ObjectId],
     rng: &mut ChaCha8Rng,
 ) -> Result<PushPlan, PushError> {
     let id = prism.id;
@@ -339,7 +378,7 @@ pub fn plan_push_over(
         });
     }
     let around = Around::new(object, validity);
-    let scene = around.scene(validity, goal, config, floor);
+    let scene = around.scene(validity, goal, config, floor, movers);
     let mut candidates = Vec::new();
     let mut runs_into = RunsInto::default();
     for (k, stance) in stances.iter().enumerate() {
@@ -355,11 +394,13 @@ pub fn plan_push_over(
             PushError::Blocked(id, runs_into)
         });
     }
-    // Openers first, shortest push first; stable sort keeps face order for ties.
+    // Openers first, then the steps that leave the way to the others; shortest push first; the
+    // stable sort keeps face order for ties.
     candidates.sort_by(|a, b| {
         b.path_after
             .is_some()
             .cmp(&a.path_after.is_some())
+            .then(b.leaves_way.cmp(&a.leaves_way))
             .then(a.distance.total_cmp(&b.distance))
     });
     let mut own = ChaCha8Rng::seed_from_u64(seed ^ 0xA5A5_A5A5);
@@ -471,6 +512,7 @@ impl<'v> Around<'v> {
         goal: &'a GoalRegion,
         config: &'a PushConfig,
         floor: Option<FloorCheck<'a>>,
+        movers: &'a [ObjectId],
     ) -> PushScene<'a, 'v> {
         PushScene {
             object: &self.object,
@@ -480,6 +522,7 @@ impl<'v> Around<'v> {
             goal,
             config,
             floor,
+            movers,
             reach: &self.reach,
         }
     }
@@ -784,6 +827,7 @@ fn push_of(
         validity,
         goal,
         config,
+        movers,
         reach,
         ..
     } = *scene;
@@ -801,11 +845,26 @@ fn push_of(
         Some((reach, moved)),
         rng,
     );
+    let shut_without_movers = || {
+        let change = Change {
+            removed: movers,
+            moved: Some(object.id()),
+        };
+        reach
+            .borrow_mut()
+            .certainly_unreachable(&after.without(movers), change, &end, goal)
+    };
+    let leaves_way = if path_after.is_none() && !movers.is_empty() && shut_without_movers() {
+        LeavesWay::Shut
+    } else {
+        LeavesWay::Open
+    };
     Ok(Ok(Candidate {
         stance: stance.clone(),
         distance,
         displaced: object.footprint().iter().map(|p| p + offset).collect(),
         path_after,
+        leaves_way,
     }))
 }
 
@@ -903,7 +962,7 @@ pub fn swept_pushes(
             .total_cmp(&(b.stand - robot).norm())
     });
     let around = Around::new(object, validity);
-    let scene = around.scene(validity, goal, config, floor);
+    let scene = around.scene(validity, goal, config, floor, &[]);
     let mut out = Vec::new();
     let mut runs_into = RunsInto::default();
     let mut unseen = false;

@@ -4,9 +4,8 @@ use nalgebra::{Isometry3, Point2, Point3, Translation3, UnitQuaternion, Vector2,
 use nudge_motion::push::SHORT_PUSHES;
 use nudge_motion::{
     FloorCheck, GoalRegion, Obstacle, PairRecord, PushConfig, PushError, SeenFloor, Sequence,
-    StateValidity, Validity, plan_push_over, plan_sequence, single_removal_opens,
+    StateValidity, Validity, plan_push_among, plan_sequence, single_removal_opens,
 };
-use nudge_perception::grid::Verdict as GridVerdict;
 use nudge_perception::{CloudFrame, ColourCloud, IcpConfig, ObjectId, Prism, colour_icp};
 use rand_chacha::ChaCha8Rng;
 
@@ -131,6 +130,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
         }
         let starts = push_starts(&here, validities);
+        let movers = self.world.known_movers(target);
         let mut planned = Err(PushError::NoStandPose(target));
         let mut unseen = false;
         let mut searched = None;
@@ -146,13 +146,14 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                     seen: seen as &dyn SeenFloor,
                     own_shadow,
                 });
-            let attempt = plan_push_over(
+            let attempt = plan_push_among(
                 &prism,
                 &validity,
                 &from,
                 &goal,
                 &push_config,
                 check,
+                &movers,
                 &mut self.rng,
             );
             // A push that does not open the way may still be the first of two that do.
@@ -795,17 +796,10 @@ fn search_sequence(
     first: ObjectId,
     rng: &mut ChaCha8Rng,
 ) -> Result<Sequence, Vec<PairRecord>> {
-    let is_static = |id: ObjectId| {
-        world
-            .grid
-            .as_ref()
-            .and_then(|g| g.verdict(id))
-            .is_some_and(|(v, _)| v == GridVerdict::Static)
-    };
     let mut candidates: Vec<(f64, &Prism)> = world
         .prisms
         .iter()
-        .filter(|p| p.id == first || !(is_static(p.id) || world.is_structure(p, config)))
+        .filter(|p| p.id == first || world.might_move(p, config))
         .filter_map(|p| {
             validity
                 .obstacle(p.id)

@@ -471,6 +471,31 @@ impl WorldModel {
         Some((i, here + toward * body.radius))
     }
 
+    /// Whether `prism` may still move: neither decided static by a push test nor room structure.
+    pub fn might_move(&self, prism: &Prism, config: &RunConfig) -> bool {
+        let decided_static = self
+            .grid
+            .as_ref()
+            .and_then(|g| g.verdict(prism.id))
+            .is_some_and(|(v, _)| v == nudge_perception::grid::Verdict::Static);
+        !(decided_static || self.is_structure(prism, config))
+    }
+
+    /// The obstacles other than `target` that a push test found movable.
+    pub fn known_movers(&self, target: ObjectId) -> Vec<ObjectId> {
+        self.prisms
+            .iter()
+            .filter(|p| p.id != target)
+            .filter(|p| {
+                self.grid
+                    .as_ref()
+                    .and_then(|g| g.verdict(p.id))
+                    .is_some_and(|(v, _)| v == nudge_perception::grid::Verdict::Movable)
+            })
+            .map(|p| p.id)
+            .collect()
+    }
+
     /// Whether `prism` is room structure, not an object to push: it lies at the edge of everything
     /// seen, and it is not merely the farthest low thing seen in some direction.
     pub fn is_structure(&self, prism: &Prism, config: &RunConfig) -> bool {
