@@ -1,31 +1,23 @@
 //! A push that opens nothing is a step: it must not leave the object where moving the others
 //! cannot get past it.
 
-use nalgebra::{Isometry3, Point2};
+mod common;
+
+use nalgebra::Point2;
 use nudge_motion::{
     Bounds, GoalRegion, PushConfig, PushPlan, RobotCylinder, Validity, ValidityConfig,
     certainly_unreachable, plan_push_among, plan_push_over,
 };
-use nudge_perception::{CloudFrame, ColourCloud, ObjectId, Prism};
+use nudge_perception::{ObjectId, Prism};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 const PUSHED_THROUGH: ObjectId = ObjectId(1);
 const IN_DOORWAY: ObjectId = ObjectId(2);
 
+/// A box from the floor to `top`.
 fn block(id: u32, x0: f64, y0: f64, x1: f64, y1: f64, top: f64) -> Prism {
-    Prism {
-        id: ObjectId(id),
-        footprint: vec![
-            Point2::new(x0, y0),
-            Point2::new(x1, y0),
-            Point2::new(x1, y1),
-            Point2::new(x0, y1),
-        ],
-        z_min: 0.0,
-        z_max: top,
-        points: ColourCloud::empty(CloudFrame::Map, Isometry3::identity(), 0.0),
-    }
+    common::boxed(id, x0, y0, x1, y1, 0.0, top)
 }
 
 /// `two-boxes-in-doorway` half way: a 9 × 4 m room split at x 4.4..4.6 with a 1.4 m doorway

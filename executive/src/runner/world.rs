@@ -471,27 +471,26 @@ impl WorldModel {
         Some((i, here + toward * body.radius))
     }
 
+    /// Whether a push test decided `id` is `verdict`.
+    fn decided(&self, id: ObjectId, verdict: nudge_perception::grid::Verdict) -> bool {
+        self.grid
+            .as_ref()
+            .and_then(|g| g.verdict(id))
+            .is_some_and(|(v, _)| v == verdict)
+    }
+
     /// Whether `prism` may still move: neither decided static by a push test nor room structure.
     pub fn might_move(&self, prism: &Prism, config: &RunConfig) -> bool {
-        let decided_static = self
-            .grid
-            .as_ref()
-            .and_then(|g| g.verdict(prism.id))
-            .is_some_and(|(v, _)| v == nudge_perception::grid::Verdict::Static);
-        !(decided_static || self.is_structure(prism, config))
+        use nudge_perception::grid::Verdict;
+        !(self.decided(prism.id, Verdict::Static) || self.is_structure(prism, config))
     }
 
     /// The obstacles other than `target` that a push test found movable.
     pub fn known_movers(&self, target: ObjectId) -> Vec<ObjectId> {
+        use nudge_perception::grid::Verdict;
         self.prisms
             .iter()
-            .filter(|p| p.id != target)
-            .filter(|p| {
-                self.grid
-                    .as_ref()
-                    .and_then(|g| g.verdict(p.id))
-                    .is_some_and(|(v, _)| v == nudge_perception::grid::Verdict::Movable)
-            })
+            .filter(|p| p.id != target && self.decided(p.id, Verdict::Movable))
             .map(|p| p.id)
             .collect()
     }
