@@ -256,13 +256,16 @@ mod tests {
     }
 
     #[test]
-    fn by_default_a_tall_box_is_pushed_just_below_its_top() {
+    fn without_testing_below_tipping_a_tall_box_is_pushed_just_below_its_top() {
         // Invariant: without `test_below_tipping` the push test keeps the paper's height.
         let prism = prism_with_face((3.0, 3.6), (0.4, 1.0), 0.7, |_, _| true);
         let object = Obstacle::from_prism(&prism).expect("a valid prism");
         let f = &prism.footprint;
         let outward = Unit::new_normalize(Vector2::new(-1.0, 0.0));
-        let config = PushConfig::default();
+        let config = PushConfig {
+            test_below_tipping: false,
+            ..PushConfig::default()
+        };
         let h = hand_heights_on(&f[3], &f[0], &outward, &[0.5], &object, &prism, &config)[0]
             .expect("a face within reach");
         assert!((h.test - h.clear).abs() < 1e-12, "{h:?}");

@@ -7,11 +7,12 @@
 //!
 //! ```text
 //! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3
-//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --below-tipping
+//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --paper-height
 //! ```
 //!
-//! `--below-tipping` runs the executive with [`PushConfig::test_below_tipping`] on: each test's hand
-//! no higher than slides what could otherwise tip, where the face is solid that low.
+//! By default the executive runs as it ships, with [`PushConfig::test_below_tipping`] on: each
+//! test's hand no higher than slides what could otherwise tip, where the face is solid that low.
+//! `--paper-height` turns it off, for the paper's push test just below each face's top.
 //!
 //! [`PushConfig::test_below_tipping`]: nudge_motion::PushConfig::test_below_tipping
 //!
@@ -26,7 +27,7 @@ use nudge_executive::record::NullObserver;
 use nudge_executive::{CandidatePolicy, Verdict};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::run::run_config;
-use nudge_sim::scenario::{GRAVITY, Scenario};
+use nudge_sim::scenario::{GRAVITY, push_test_corridor};
 use nudge_sim::truth::MOVABLE_MARGIN;
 
 /// Command-line options.
@@ -36,43 +37,16 @@ struct Options {
     /// Noise seeds per box.
     #[arg(long, default_value_t = 3)]
     seeds: u64,
-    /// Push-test the boxes below tipping (`PushConfig::test_below_tipping`).
+    /// Push-test the boxes at the paper's height, just below their top, rather than below tipping
+    /// (`PushConfig::test_below_tipping` off).
     #[arg(long)]
-    below_tipping: bool,
+    paper_height: bool,
 }
 
 /// Box masses tried (kg).
 const MASSES: [f64; 7] = [2.0, 4.0, 6.0, 8.0, 12.0, 16.0, 20.0];
 /// Friction coefficients tried.
 const FRICTIONS: [f64; 8] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8];
-
-/// A 7 m × 1.4 m corridor with the robot at one end, the goal at the other and a 0.6 × 0.9 m box
-/// between them: 0.25 m either side, less than the robot's 0.7 m width, so it must be pushed.
-fn corridor(mass: f64, friction: f64) -> String {
-    format!(
-        r#"name = "sweep"
-[room]
-size = [7.0, 1.4]
-wall_height = 2.0
-[robot]
-start = [1.0, 0.7, 0.0]
-radius = 0.35
-height = 1.54
-walk_speed = 0.15
-[goal]
-position = [6.2, 0.7]
-tolerance = 0.2
-[[object]]
-name = "box"
-kind = "box"
-position = [3.0, 0.7]
-size = [0.6, 0.9, 0.7]
-mass = {mass}
-friction = {friction}
-colour = [170, 120, 60]
-"#
-    )
-}
 
 fn main() -> ExitCode {
     let options = Options::parse();
@@ -94,7 +68,7 @@ fn main() -> ExitCode {
             } else {
                 "static"
             };
-            let scenario = match Scenario::from_toml_str(&corridor(mass, friction), "sweep.toml") {
+            let scenario = match push_test_corridor(mass, friction) {
                 Ok(s) => s,
                 Err(e) => {
                     eprintln!("push_test_sweep: {e}");
@@ -110,7 +84,7 @@ fn main() -> ExitCode {
                     }
                 };
                 let mut config = run_config(&scenario, seed, CandidatePolicy::Nearest);
-                config.push.test_below_tipping = options.below_tipping;
+                config.push.test_below_tipping = !options.paper_height;
                 let report = Runner::new(robot, NullObserver, config).run();
                 let midpoint = (slide + limit) / 2.0;
                 let Some(test) = report.knowledge.explanation.tests.first() else {

@@ -82,12 +82,14 @@
 //!   or past the last waypoint, `pick_at` without `drop_at` or not after it (unless the walk repeats);
 //! - `[expect]` naming unknown objects, or one object both movable and static.
 
+mod corridor;
 mod error;
 mod geometry;
 mod load;
 mod locate;
 mod validate;
 
+pub use corridor::push_test_corridor;
 pub use error::{FieldPath, InvalidScenario, PathSegment, ScenarioError, ScenarioFault};
 pub use geometry::{BOUNDARY_TOLERANCE, DISC_POLYGON_CORNERS, Footprint, GRAVITY, Shape};
 pub use load::{DEFAULT_ROOM_ORIGIN, DEFAULT_ROOM_TOML};

@@ -9,6 +9,7 @@ use nudge_perception::grid::{CellClass, CellIndex, Evidence};
 use nudge_perception::{ColourCloud, ObjectId};
 use nudge_sim::actors::Plan;
 use nudge_sim::adapter::SimRobot;
+use nudge_sim::scenario::Scenario;
 use nudge_sim::truth::{MOVABLE_MARGIN, Movability, Truth};
 use nudge_tests::print_timeline;
 use nudge_tests::truth::{Scored, score};
@@ -60,8 +61,7 @@ fn assert_force_within_limit(report: &RunReport) {
 /// Every push test of an object the truth calls movable peaked under the midpoint between the
 /// object's sliding force (μmg) and the force limit: the test's first contact leaves a movable
 /// object margin, it does not read it as static by a transient.
-fn assert_movable_peaks_have_margin(name: &str, report: &RunReport, scored: &[Scored]) {
-    let scenario = nudge_tests::scenario(name).expect("scenario loads");
+fn assert_movable_peaks_have_margin(scenario: &Scenario, report: &RunReport, scored: &[Scored]) {
     let limit = scenario.robot.model().force.test_limit;
     for t in &report.knowledge.explanation.tests {
         let Some(spec) = scored
@@ -97,7 +97,8 @@ fn the_papers_room_reaches_the_goal_testing_the_table_first() {
     assert_eq!(report.outcome, State::Goal);
     assert_all_correct(&scored);
     assert_force_within_limit(&report);
-    assert_movable_peaks_have_margin("kakiuchi-room", &report, &scored);
+    let scenario = nudge_tests::scenario("kakiuchi-room").expect("scenario loads");
+    assert_movable_peaks_have_margin(&scenario, &report, &scored);
     let tests = &report.knowledge.explanation.tests;
     let first = tests.first().expect("at least one push test");
     assert_eq!(
@@ -120,6 +121,26 @@ fn the_papers_room_reaches_the_goal_testing_the_table_first() {
         report.timeline.iter().any(|t| t.edge == Edge::Cleared),
         "the chair is pushed out of the way"
     );
+}
+
+#[test]
+fn a_light_tall_box_is_push_tested_below_tipping_and_found_movable_with_margin() {
+    // Invariant: as the executive ships, the push test of a 2 kg box 0.7 m tall on a floor of μ 0.7 (μmg 13.7 N; pushed just below its top it tips at 9 N and locks at the 20 N limit leaning) pushes it low enough to slide before it tips: it is found movable, as the truth has it, with every test's peak under the midpoint between μmg and the limit.
+    let scenario = nudge_sim::scenario::push_test_corridor(2.0, 0.7).expect("the corridor loads");
+    let (report, robot) = nudge_tests::run(&scenario, 1, CandidatePolicy::Nearest, NullObserver)
+        .expect("world builds");
+    let scored = score(&report, &robot);
+    print_timeline(&report);
+    assert_all_correct(&scored);
+    assert!(
+        !report.knowledge.explanation.tests.is_empty(),
+        "the box is push-tested"
+    );
+    assert_eq!(
+        named(&scored, "box").map(|s| &s.verdict),
+        Some(&Verdict::Movable)
+    );
+    assert_movable_peaks_have_margin(&scenario, &report, &scored);
 }
 
 #[test]
