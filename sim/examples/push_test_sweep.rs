@@ -7,12 +7,11 @@
 //!
 //! ```text
 //! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3
-//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --paper-height
+//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --below-tipping
 //! ```
 //!
-//! By default the executive runs as it ships, with [`PushConfig::test_below_tipping`] on: each
-//! test's hand no higher than slides what could otherwise tip, where the face is solid that low.
-//! `--paper-height` turns it off, for the paper's push test just below each face's top.
+//! `--below-tipping` runs the executive with [`PushConfig::test_below_tipping`] on: each test's hand
+//! no higher than slides what could otherwise tip, where the face is solid that low.
 //!
 //! [`PushConfig::test_below_tipping`]: nudge_motion::PushConfig::test_below_tipping
 //!
@@ -37,10 +36,9 @@ struct Options {
     /// Noise seeds per box.
     #[arg(long, default_value_t = 3)]
     seeds: u64,
-    /// Push-test the boxes at the paper's height, just below their top, rather than below tipping
-    /// (`PushConfig::test_below_tipping` off).
+    /// Push-test the boxes below tipping (`PushConfig::test_below_tipping`).
     #[arg(long)]
-    paper_height: bool,
+    below_tipping: bool,
 }
 
 /// Box masses tried (kg).
@@ -84,7 +82,7 @@ fn main() -> ExitCode {
                     }
                 };
                 let mut config = run_config(&scenario, seed, CandidatePolicy::Nearest);
-                config.push.test_below_tipping = !options.paper_height;
+                config.push.test_below_tipping = options.below_tipping;
                 let report = Runner::new(robot, NullObserver, config).run();
                 let midpoint = (slide + limit) / 2.0;
                 let Some(test) = report.knowledge.explanation.tests.first() else {

@@ -125,10 +125,14 @@ fn the_papers_room_reaches_the_goal_testing_the_table_first() {
 
 #[test]
 fn a_light_tall_box_is_push_tested_below_tipping_and_found_movable_with_margin() {
-    // Invariant: as the executive ships, the push test of a 2 kg box 0.7 m tall on a floor of μ 0.7 (μmg 13.7 N; pushed just below its top it tips at 9 N and locks at the 20 N limit leaning) pushes it low enough to slide before it tips: it is found movable, as the truth has it, with every test's peak under the midpoint between μmg and the limit.
+    // Invariant: with the push test below tipping, the test of a 2 kg box 0.7 m tall on a floor of μ 0.7 (μmg 13.7 N; pushed just below its top it tips at 9 N and locks at the 20 N limit leaning) pushes it low enough to slide before it tips: it is found movable, as the truth has it, with every test's peak under the midpoint between μmg and the limit.
     let scenario = nudge_sim::scenario::push_test_corridor(2.0, 0.7).expect("the corridor loads");
-    let (report, robot) = nudge_tests::run(&scenario, 1, CandidatePolicy::Nearest, NullObserver)
-        .expect("world builds");
+    let mut config = nudge_sim::run::run_config(&scenario, 1, CandidatePolicy::Nearest);
+    config.push.test_below_tipping = true;
+    let robot = SimRobot::new(&scenario, 1).expect("world builds");
+    let mut runner = nudge_executive::Runner::new(robot, NullObserver, config);
+    let report = runner.run();
+    let (robot, _) = runner.into_parts();
     let scored = score(&report, &robot);
     print_timeline(&report);
     assert_all_correct(&scored);
