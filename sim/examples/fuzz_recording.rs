@@ -16,10 +16,9 @@
 
 use std::collections::BTreeMap;
 use std::io::Cursor;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::Parser;
 use nalgebra::{Isometry2, Isometry3, Point2, Point3, Vector3};
@@ -31,6 +30,10 @@ use nudge_executive::robot::{ActionStatus, RobotError, Stamped, WalkOutcome, Wre
 use nudge_perception::{CloudFrame, ColourCloud};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+#[path = "fuzz_common/mod.rs"]
+mod fuzz_common;
+use fuzz_common::Judged;
 
 /// Command-line options.
 #[derive(Parser, Debug)]
@@ -63,14 +66,6 @@ const HOSTILE: [u64; 8] = [
     u64::MAX,
 ];
 
-/// What one input did.
-enum Verdict {
-    /// Read to the end (with the tape's entries) or refused with an error.
-    Fine { read: bool },
-    /// Something panicked.
-    Panicked(String),
-}
-
 fn main() -> ExitCode {
     let options = Options::parse();
     let corpus = match corpus() {
@@ -87,68 +82,37 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
-    // Panics are caught and counted; the default hook would print each one.
-    std::panic::set_hook(Box::new(|_| {}));
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    let slow = Duration::from_millis(options.slow_ms);
-    let started = Instant::now();
-    let (mut read, mut refused, mut findings) = (0u64, 0u64, 0u64);
-    let mut slowest = Duration::ZERO;
-    for i in 0..options.inputs {
-        let bytes = mutate(&corpus, &mut rng);
-        let t0 = Instant::now();
-        let verdict = try_input(&bytes);
-        let took = t0.elapsed();
-        slowest = slowest.max(took);
-        let finding = match verdict {
-            Verdict::Fine { read: r } => {
-                if r {
-                    read += 1;
-                } else {
-                    refused += 1;
-                }
-                (took > slow).then(|| format!("slow: {} ms", took.as_millis()))
-            }
-            Verdict::Panicked(why) => Some(format!("panic: {why}")),
-        };
-        if let Some(why) = finding {
-            findings += 1;
-            if let Err(e) = save(&options.out, i, &bytes, &why) {
+    let tally = fuzz_common::drive(
+        options.inputs,
+        Duration::from_millis(options.slow_ms),
+        |_| mutate(&corpus, &mut rng),
+        |_, bytes| match fuzz_common::caught(|| read_recording(bytes).is_ok()) {
+            Ok(true) => Judged::Accepted,
+            Ok(false) => Judged::Refused,
+            Err(why) => Judged::Finding(format!("panic: {why}")),
+        },
+        |i, bytes, why| {
+            if let Err(e) = save(&options.out, i, bytes, why) {
                 eprintln!("fuzz_recording: could not save input {i}: {e}");
             }
-            eprintln!("input {i}: {why}");
-        }
-    }
-    let wall = started.elapsed();
+        },
+    );
     println!(
         "{} inputs (seed {}): {} read, {} refused, {} findings; slowest {:.1} ms; {:.1} s ({:.0} inputs/s)",
         options.inputs,
         options.seed,
-        read,
-        refused,
-        findings,
-        slowest.as_secs_f64() * 1e3,
-        wall.as_secs_f64(),
-        options.inputs as f64 / wall.as_secs_f64().max(1e-9),
+        tally.accepted,
+        tally.refused,
+        tally.findings,
+        tally.slowest.as_secs_f64() * 1e3,
+        tally.wall.as_secs_f64(),
+        options.inputs as f64 / tally.wall.as_secs_f64().max(1e-9),
     );
-    if findings == 0 {
+    if tally.findings == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
-    }
-}
-
-/// Reads `bytes` as a recording; panics are caught.
-fn try_input(bytes: &[u8]) -> Verdict {
-    match catch_unwind(AssertUnwindSafe(|| read_recording(bytes).is_ok())) {
-        Ok(read) => Verdict::Fine { read },
-        Err(payload) => Verdict::Panicked(
-            payload
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| payload.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-                .unwrap_or_else(|| "a panic without a message".into()),
-        ),
     }
 }
 

@@ -11,16 +11,19 @@
 //! cargo run --release -p nudge-sim --example fuzz_scenarios -- --inputs 1000000 --seed 1
 //! ```
 
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::Parser;
 use nudge_sim::scenario::{DEFAULT_ROOM_TOML, Scenario, ScenarioError};
 use nudge_sim::world::World;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+
+#[path = "fuzz_common/mod.rs"]
+mod fuzz_common;
+use fuzz_common::Judged;
 
 /// Command-line options.
 #[derive(Parser, Debug)]
@@ -101,16 +104,6 @@ const TOKENS: &[&str] = &[
     "\t",
 ];
 
-/// What one input did.
-enum Verdict {
-    /// Loaded and built a world, or refused with a well-placed error.
-    Fine { loaded: bool },
-    /// The loader's error does not point into the text.
-    Misplaced(String),
-    /// Something panicked.
-    Panicked(String),
-}
-
 fn main() -> ExitCode {
     let options = Options::parse();
     let corpus = match read_corpus(&options.corpus) {
@@ -120,52 +113,30 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    // Panics are caught and counted; the default hook would print each one.
-    std::panic::set_hook(Box::new(|_| {}));
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    let slow = Duration::from_millis(options.slow_ms);
-    let started = Instant::now();
-    let (mut loaded, mut refused, mut findings) = (0u64, 0u64, 0u64);
-    let mut slowest = Duration::ZERO;
-    for i in 0..options.inputs {
-        let text = mutate(&corpus, &mut rng);
-        let t0 = Instant::now();
-        let verdict = try_input(&text, i);
-        let took = t0.elapsed();
-        slowest = slowest.max(took);
-        let finding = match verdict {
-            Verdict::Fine { loaded: l } => {
-                if l {
-                    loaded += 1;
-                } else {
-                    refused += 1;
-                }
-                (took > slow).then(|| format!("slow: {} ms", took.as_millis()))
-            }
-            Verdict::Misplaced(why) => Some(format!("misplaced error: {why}")),
-            Verdict::Panicked(why) => Some(format!("panic: {why}")),
-        };
-        if let Some(why) = finding {
-            findings += 1;
-            if let Err(e) = save(&options.out, i, &text, &why) {
+    let tally = fuzz_common::drive(
+        options.inputs,
+        Duration::from_millis(options.slow_ms),
+        |_| mutate(&corpus, &mut rng),
+        |i, text| try_input(text, i),
+        |i, text, why| {
+            if let Err(e) = save(&options.out, i, text, why) {
                 eprintln!("fuzz_scenarios: could not save input {i}: {e}");
             }
-            eprintln!("input {i}: {why}");
-        }
-    }
-    let wall = started.elapsed();
+        },
+    );
     println!(
         "{} inputs (seed {}): {} loaded and built, {} refused in place, {} findings; slowest {:.1} ms; {:.1} s ({:.0} inputs/s)",
         options.inputs,
         options.seed,
-        loaded,
-        refused,
-        findings,
-        slowest.as_secs_f64() * 1e3,
-        wall.as_secs_f64(),
-        options.inputs as f64 / wall.as_secs_f64().max(1e-9),
+        tally.accepted,
+        tally.refused,
+        tally.findings,
+        tally.slowest.as_secs_f64() * 1e3,
+        tally.wall.as_secs_f64(),
+        options.inputs as f64 / tally.wall.as_secs_f64().max(1e-9),
     );
-    if findings == 0 {
+    if tally.findings == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
@@ -187,28 +158,21 @@ fn read_corpus(dir: &Path) -> std::io::Result<Vec<String>> {
     Ok(corpus)
 }
 
-/// Loads `text` and builds its world; panics are caught.
-fn try_input(text: &str, index: u64) -> Verdict {
-    let run = catch_unwind(AssertUnwindSafe(|| {
-        match Scenario::from_toml_str(text, "fuzz.toml") {
-            Ok(scenario) => {
-                // A refusal is fine; the build must only not panic.
-                let _ = World::new(&scenario, index);
-                Ok(true)
-            }
-            Err(error) => check_place(text, &error).map(|()| false),
+/// Loads `text` and builds its world (seeded with the input's `index`); panics are caught.
+fn try_input(text: &str, index: u64) -> Judged {
+    let run = fuzz_common::caught(|| match Scenario::from_toml_str(text, "fuzz.toml") {
+        Ok(scenario) => {
+            // A refusal is fine; the build must only not panic.
+            let _ = World::new(&scenario, index);
+            Ok(true)
         }
-    }));
+        Err(error) => check_place(text, &error).map(|()| false),
+    });
     match run {
-        Ok(Ok(loaded)) => Verdict::Fine { loaded },
-        Ok(Err(why)) => Verdict::Misplaced(why),
-        Err(payload) => Verdict::Panicked(
-            payload
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| payload.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-                .unwrap_or_else(|| "a panic without a message".into()),
-        ),
+        Ok(Ok(true)) => Judged::Accepted,
+        Ok(Ok(false)) => Judged::Refused,
+        Ok(Err(why)) => Judged::Finding(format!("misplaced error: {why}")),
+        Err(why) => Judged::Finding(format!("panic: {why}")),
     }
 }
 
