@@ -2,7 +2,7 @@
 //! record reader, then the replay tape's decoder) that `nudge replay` and `nudge inspect` stand on.
 //!
 //! The corpus is three small recordings made here with the tape's own encoder: a tape of calls
-//! (every kind of reply, errors among them, a small cloud) and transitions, the run's metadata, a
+//! (every kind of reply but the hand's status, errors among them, a small cloud) and transitions, the run's metadata, a
 //! scenario attachment and a summary, written with chunks and zstd, with chunks uncompressed, and
 //! without chunks. Every input is one of them mangled by a few mutations: bits flipped, spans deleted,
 //! duplicated or overwritten with random bytes, a length-sized field set to a hostile value (zero,
@@ -98,28 +98,13 @@ fn main() -> ExitCode {
             }
         },
     );
-    println!(
-        "{} inputs (seed {}): {} read, {} refused, {} findings; slowest {:.1} ms; {:.1} s ({:.0} inputs/s)",
-        options.inputs,
-        options.seed,
-        tally.accepted,
-        tally.refused,
-        tally.findings,
-        tally.slowest.as_secs_f64() * 1e3,
-        tally.wall.as_secs_f64(),
-        options.inputs as f64 / tally.wall.as_secs_f64().max(1e-9),
-    );
-    if tally.findings == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    }
+    tally.print(options.inputs, options.seed, "read", "refused");
+    tally.exit_code()
 }
 
-/// The tape every corpus file holds: one call of each kind of reply (errors among them, a cloud of
-/// a few points) and two transitions.
+/// The tape every corpus file holds: one call of each kind of reply but the hand's status (errors
+/// among them, a cloud of a few points) and two transitions.
 fn tape() -> Vec<Entry> {
-    let at = |stamp: f64| stamp;
     let error = RobotError::Unavailable {
         capability: "camera",
         reason: "driver down".into(),
@@ -149,7 +134,7 @@ fn tape() -> Vec<Entry> {
     };
     vec![
         transition("(start)", "Start", "LookAround"),
-        Entry::Call(Request::Now, Reply::Time(at(0.0))),
+        Entry::Call(Request::Now, Reply::Time(0.0)),
         Entry::Call(Request::Advance(0.05), Reply::Done(Ok(()))),
         Entry::Call(
             Request::BasePose,

@@ -125,22 +125,13 @@ fn main() -> ExitCode {
             }
         },
     );
-    println!(
-        "{} inputs (seed {}): {} loaded and built, {} refused in place, {} findings; slowest {:.1} ms; {:.1} s ({:.0} inputs/s)",
+    tally.print(
         options.inputs,
         options.seed,
-        tally.accepted,
-        tally.refused,
-        tally.findings,
-        tally.slowest.as_secs_f64() * 1e3,
-        tally.wall.as_secs_f64(),
-        options.inputs as f64 / tally.wall.as_secs_f64().max(1e-9),
+        "loaded and built",
+        "refused in place",
     );
-    if tally.findings == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    }
+    tally.exit_code()
 }
 
 /// The shipped scenario files, sorted by name so a seed means the same inputs everywhere, and the

@@ -30,8 +30,9 @@ pub struct Tally {
     pub wall: Duration,
 }
 
-/// Runs `inputs` inputs: `make` builds input `i`, `judge` says what it did (given `i` too), and every finding (a
-/// slow input included: over `slow`) is passed to `save` with why, printed to stderr and counted.
+/// Runs `inputs` inputs: `make` builds input `i`, `judge` says what it did (given `i` too), and
+/// every finding (a slow input included: over `slow`) is passed to `save` with why, printed to
+/// stderr and counted.
 /// Panics inside `judge` should be caught with [`caught`]; the default panic hook is silenced here.
 pub fn drive<I>(
     inputs: u64,
@@ -76,6 +77,31 @@ pub fn drive<I>(
     }
     tally.wall = started.elapsed();
     tally
+}
+
+impl Tally {
+    /// Prints the run's summary line: `inputs` inputs of `seed`, the accepted and refused counted
+    /// under the fuzzer's own words for them.
+    pub fn print(&self, inputs: u64, seed: u64, accepted: &str, refused: &str) {
+        let wall = self.wall.as_secs_f64();
+        println!(
+            "{inputs} inputs (seed {seed}): {} {accepted}, {} {refused}, {} findings; slowest {:.1} ms; {wall:.1} s ({:.0} inputs/s)",
+            self.accepted,
+            self.refused,
+            self.findings,
+            self.slowest.as_secs_f64() * 1e3,
+            inputs as f64 / wall.max(1e-9),
+        );
+    }
+
+    /// Success when nothing was found.
+    pub fn exit_code(&self) -> std::process::ExitCode {
+        if self.findings == 0 {
+            std::process::ExitCode::SUCCESS
+        } else {
+            std::process::ExitCode::FAILURE
+        }
+    }
 }
 
 /// Runs `f`, catching a panic as its message.
