@@ -67,12 +67,11 @@ pub struct PushConfig {
     pub max_floor_friction: f64,
     /// Whether a push test's hand goes no higher than slides what could otherwise tip, where the
     /// face is solid that low ([`crate::hand_height`]); else it pushes at the paper's height, just
-    /// below the face's top, as clearing strokes always do. Off by default: it sets every verdict
-    /// of the push-test sweep right with every movable peak under its midpoint, and the shipped
-    /// batch reads with it as without (719/720), but on generated rooms no session had tuned for
-    /// (`--seed 28`) it read two verdicts wrong where the paper's height read none (a chair's seat
-    /// caught by the lowered hand, the stop leaning 70°, taken for static twice), and one test's
-    /// transient reached 32 N (BENCHMARKS.md, "Push test sweep").
+    /// below the face's top, as clearing strokes always do. On by default: it sets every verdict of
+    /// the push-test sweep right with every movable peak under its midpoint (at the paper's height
+    /// a light, tall box tips and locks at the limit), and with the hand reaching a lowered line
+    /// beside the body (the executive's stroke) the shipped and generated batches read as at the
+    /// paper's height (BENCHMARKS.md, "Push test sweep").
     pub test_below_tipping: bool,
     /// Least gap (m) the object's sweep keeps from every other obstacle. A real object turns a little
     /// as it slides and its footprint is known to a few centimetres: a sweep that grazes a corner
@@ -122,7 +121,7 @@ impl PushConfig {
             hand_half_width: arm.hand_half[1],
             hand_half_height: arm.hand_half[2],
             max_floor_friction: 0.8,
-            test_below_tipping: false,
+            test_below_tipping: true,
             sweep_clearance: 0.05,
             distance_margin: 0.2,
             merge_angle: 10f64.to_radians(),

@@ -7,11 +7,13 @@
 //!
 //! ```text
 //! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3
-//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --below-tipping
+//! cargo run --release -p nudge-sim --example push_test_sweep -- --seeds 3 --paper-height
 //! ```
 //!
-//! `--below-tipping` runs the executive with [`PushConfig::test_below_tipping`] on: each test's hand
-//! no higher than slides what could otherwise tip, where the face is solid that low.
+//! The executive runs as it ships, [`PushConfig::test_below_tipping`] on: each test's hand no
+//! higher than slides what could otherwise tip, where the face is solid that low. `--paper-height`
+//! turns it off, every test pushed just below the face's top as the paper's (the light, tall box
+//! then tips and locks at the limit).
 //!
 //! [`PushConfig::test_below_tipping`]: nudge_motion::PushConfig::test_below_tipping
 //!
@@ -36,9 +38,10 @@ struct Options {
     /// Noise seeds per box.
     #[arg(long, default_value_t = 3)]
     seeds: u64,
-    /// Push-test the boxes below tipping (`PushConfig::test_below_tipping`).
+    /// Push-test the boxes at the paper's height, just below their top
+    /// (`PushConfig::test_below_tipping` off).
     #[arg(long)]
-    below_tipping: bool,
+    paper_height: bool,
 }
 
 /// Box masses tried (kg).
@@ -82,7 +85,7 @@ fn main() -> ExitCode {
                     }
                 };
                 let mut config = run_config(&scenario, seed, CandidatePolicy::Nearest);
-                config.push.test_below_tipping = options.below_tipping;
+                config.push.test_below_tipping = !options.paper_height;
                 let report = Runner::new(robot, NullObserver, config).run();
                 let midpoint = (slide + limit) / 2.0;
                 let Some(test) = report.knowledge.explanation.tests.first() else {

@@ -6,7 +6,8 @@ use nalgebra::{Isometry2, Isometry3, Point2, Translation3, UnitQuaternion, Vecto
 use nudge_motion::{Obstacle, SweepBlock, Validity, sweep_blocked};
 use nudge_perception::{ColourCloud, ObjectId, Prism};
 
-use super::push::{Approach, icp_pose};
+use super::push::icp_pose;
+use super::stroke::{Approach, Route, StrokeLine};
 use super::{Interrupt, Runner};
 use crate::event::Event;
 use crate::push_test::PushIntent;
@@ -226,7 +227,17 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             } else {
                 Approach::GuardedLast(motion.approach_gap)
             };
-            let stroke = self.stroke(from_x, to_x, y, intent.clear_height, limit, approach)?;
+            // An object that tipped is cleared below its top (see `Ambiguity::Tipped`): the hand
+            // reaches that line beside the body.
+            let hand_line = StrokeLine {
+                from_x,
+                face_x: face.x,
+                to_x,
+                y,
+                z: intent.clear_height,
+                route: Route::for_line(self.world.tipped.contains(&intent.target)),
+            };
+            let stroke = self.stroke(hand_line, limit, approach)?;
             peak = peak.max(stroke.peak_force);
             self.retract()?;
             if let HandOutcome::ForceLimit { .. } = stroke.outcome {

@@ -19,6 +19,7 @@ mod rank;
 mod recheck;
 mod report;
 mod search_space;
+mod stroke;
 mod unseen;
 mod view;
 mod watchdog;

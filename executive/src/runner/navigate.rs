@@ -32,7 +32,7 @@ impl Reach {
     /// hand meets the object at `contact`, can make the push test from there once turned to face
     /// `d`: it has not passed the stand pose, the stroke ends within the arm's reach ahead, and its
     /// line lies within the arm's reach to the side (each within
-    /// [`super::push::LATERAL_SLACK`], what the arm absorbs of a missed pose).
+    /// [`super::stroke::LATERAL_SLACK`], what the arm absorbs of a missed pose).
     fn pushes_from(
         &self,
         at: &Point2<f64>,
@@ -42,9 +42,9 @@ impl Reach {
     ) -> bool {
         // The contact to the body's left when it faces `d`.
         let side = d.perp(&(contact - at));
-        (at - stand).dot(d) <= super::push::LATERAL_SLACK
+        (at - stand).dot(d) <= super::stroke::LATERAL_SLACK
             && (contact - at).dot(d) <= self.ahead
-            && super::push::reaches_lateral(side, self.side)
+            && super::stroke::reaches_lateral(side, self.side)
     }
 }
 
@@ -683,7 +683,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         // Already there, within what the arm absorbs of a stand pose missed (a push planned from
         // where the last one left the robot): turn, do not step away and back. Farther off, the
         // stroke's line could leave the arm's reach: walk there.
-        if (stand - here).norm() <= super::push::LATERAL_SLACK {
+        if (stand - here).norm() <= super::stroke::LATERAL_SLACK {
             return match self.turn_to(intent.direction.y.atan2(intent.direction.x)) {
                 Ok(WalkOutcome::Arrived) => Event::Arrived,
                 Ok(_) => Event::WalkBlocked,
