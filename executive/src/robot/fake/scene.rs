@@ -70,10 +70,10 @@ impl SceneBox {
             near = near.max(a.min(b));
             far = far.min(a.max(b));
         }
-        // A line from inside the box touches it only when it starts within a press of the face it
-        // heads into: a hand withdrawing from a face it pressed starts just inside the opposite
-        // way's far face, and pulls nothing.
-        (near <= far && far >= 0.0 && near >= -PRESSED_IN).then_some(near.max(0.0))
+        // A line from inside the box touches it at once, unless it leaves the box within a press's
+        // depth: a hand withdrawing from a face it pressed pulls nothing.
+        let withdrawing = near < 0.0 && far <= PRESSED_IN;
+        (near <= far && far >= 0.0 && !withdrawing).then_some(near.max(0.0))
     }
 
     /// Moves the box by `offset` (map frame, m), counting the distance as pushed.
@@ -83,8 +83,8 @@ impl SceneBox {
     }
 }
 
-/// How deep (m) a hand's line may start inside a box's face and still be pressing it: ten times the
-/// press a stiff box allows at the 20 N limit (20 kN/m: 1 mm), far less than any box is deep.
+/// How deep (m) inside a box's face a hand that pressed it may lie: ten times the press a stiff box
+/// allows at the 20 N limit (20 kN/m: 1 mm), far less than any box is deep.
 const PRESSED_IN: f64 = 0.01;
 
 /// The fake robot's world: a floor and boxes, seen by one camera.
