@@ -373,7 +373,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             seen.is_some() && first_in_way.is_some_and(|x| x >= from_x + motion.approach_gap / 2.0);
         // Where the look shows the face well beyond where the plan put it and no test before this
         // one slid it there, the look may be what is wrong (a face seen above where its nearer
-        // part stands: a box 11 cm nearer, struck at the free speed in force-limit-010, seed 11,
+        // part stands: a box 22 cm nearer, struck at the free speed in force-limit-010, seed 11,
         // `--seed 28`): the hand goes free only as far as the plan's line start, guarded from there.
         let plan_start = (planned.x - motion.approach_gap).max(self.config.model.arm.reach_x[0]);
         let beyond_plan = slid.is_none() && from_x > plan_start + motion.approach_gap / 2.0;

@@ -12,7 +12,7 @@ use crate::robot::{GuardedMove, HandOutcome, Robot, Stamped, Wrench};
 /// How fast the hand gets to a stroke's line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Approach {
-    /// At the arm's free speed: the look showed the way clear.
+    /// At the arm's free speed, along the line the look showed clear (see [`legs`]).
     Free,
     /// At the free speed to this far (m) short of the line's start along the line, then guarded at
     /// the approach speed: the object is known to lie ahead, but may have turned nearer since it
@@ -29,12 +29,12 @@ pub(super) enum Route {
     /// Straight from where it is to the line's start: a line just below the top of the face it
     /// pushes, with nothing of the object above it that the move could cut through.
     Straight,
-    /// To the line's height beside the body first (as near it as the arm reaches, where the robot's
-    /// own standoff keeps everything away), then out along the line, the way the look judged: a
-    /// line below the object's top, where a straight move from the hand's rest above it would cut
-    /// through whatever overhangs the face (a table's top, a chair's seat) and strike it at the
-    /// free speed (25.6 N on a table's edge in long-hall, seed 7) or land on it from above (a
-    /// chair's seat, the wrist leaning 70°, read as tipped).
+    /// To the line's height inside the body's cylinder first, across to the line, then out along
+    /// it (see [`beside_body`]), and back the same way after the stroke: a line below the object's
+    /// top, where a straight move from the hand's rest above it would cut through whatever
+    /// overhangs the face (a table's top, a chair's seat) and strike it at the free speed (25.6 N
+    /// on a table's edge in long-hall, seed 7) or land on it from above (a chair's seat, the wrist
+    /// leaning 70°, read as tipped).
     BesideBody,
 }
 
@@ -328,10 +328,10 @@ fn on_line(from: &Point3<f64>, to: &Point3<f64>, line: &StrokeLine) -> bool {
 }
 
 /// The guarded moves of a stroke along `line` from the hand at `here`, the last along the line
-/// itself at the push speed. Before it, as `approach` says: none (the hand goes to the line's start
-/// at its free speed), the last stretch guarded, or the whole way guarded. A line reached
-/// [`Route::BesideBody`] is first met as near the body as the arm reaches, straight from `here`
-/// (at the free speed unless the whole way is guarded), and followed out from there.
+/// itself at the push speed. Before it, as `approach` says: down the body's column and across to
+/// the line (see [`beside_body`]), then along it at the free speed; the last stretch guarded; or the
+/// whole way guarded. A line reached [`Route::BesideBody`] is met through the column whatever the
+/// approach; the leg across to the line, which no look judged, is always guarded.
 fn legs(
     here: &Point3<f64>,
     line: &StrokeLine,
@@ -386,13 +386,9 @@ fn legs(
         .collect();
     // A leg of no length is no move (the hand already where it starts); the push itself always
     // stays.
-    let last = legs.len() - 1;
-    let mut index = 0;
-    legs.retain(|leg| {
-        let keep = index == last || (leg.to - leg.from).norm() > 1e-3;
-        index += 1;
-        keep
-    });
+    let push = legs.pop();
+    legs.retain(|leg| (leg.to - leg.from).norm() > 1e-3);
+    legs.extend(push);
     legs
 }
 
