@@ -53,8 +53,9 @@ pub struct PrismConfig {
     /// sprawling cluster and for the cuts of a piece over floor seen free (a corner reached after many
     /// halvings of the room's walls must still be cut). Default 12.
     pub max_split_depth: u32,
-    /// Smallest footprint thickness (m): a cluster whose points are collinear (or one spot) gets a
-    /// footprint this thick around them. Default 0.02.
+    /// Smallest footprint thickness (m): a cluster whose points are collinear, one spot, or a hull
+    /// narrower than this (a flat face seen without noise) gets a footprint this thick around them.
+    /// Default 0.02, half the elevation map's 4 cm cell.
     pub min_thickness: f64,
     /// Connectivity used to re-label the halves of a split cluster. Default 8.
     pub connectivity: Connectivity,
@@ -502,10 +503,7 @@ pub(crate) fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<
     };
     let hull = drop_close_vertices(hull, 1e-3);
     let half = 0.5 * min_thickness;
-    if hull.len() >= 3 && polygon_area(&hull) > min_thickness * min_thickness * 0.25 {
-        return hull;
-    }
-    // Degenerate: the segment between the two farthest hull vertices (or the spot), thickened.
+    // The hull's long axis: the segment between its two farthest vertices.
     let (mut a, mut b) = (hull[0], hull[0]);
     for p in &hull {
         for q in &hull {
@@ -522,6 +520,23 @@ pub(crate) fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<
     } else {
         (nalgebra::Vector2::x(), nalgebra::Vector2::y())
     };
+    // How far the hull reaches to either side of that axis. A flat face seen without noise (a wall
+    // head-on, a board) has a hull a few millimetres wide and metres long, with area enough to pass
+    // an area test, but no planner can use it: parry2d's convex polygon merges edges whose normals
+    // differ by under √ε_f32 and collapses such a sliver to a segment. So thinness is judged by width.
+    let (lo, hi) = hull.iter().fold((0.0f64, 0.0f64), |(lo, hi), p| {
+        let off = (p - a).dot(&v);
+        (lo.min(off), hi.max(off))
+    });
+    if hull.len() >= 3
+        && polygon_area(&hull) > min_thickness * min_thickness * 0.25
+        && hi - lo >= min_thickness
+    {
+        return hull;
+    }
+    // Degenerate: the long axis (or the spot), thickened about the hull's middle.
+    let a = a + v * (0.5 * (lo + hi));
+    let b = a + d;
     let (a, b) = (a - u * half, b + u * half);
     vec![a - v * half, b - v * half, b + v * half, a + v * half]
 }
@@ -701,5 +716,39 @@ mod tests {
         assert!(polygon_area(&f) > 0.0);
         assert!((polygon_area(&f) - 0.92 * 0.02).abs() < 1e-6);
         assert!(convex_footprint(&[], 0.02).is_empty());
+    }
+
+    #[test]
+    fn a_flat_face_seen_without_noise_gets_a_footprint_a_planner_can_use() {
+        // Invariant: a hull narrower than the minimum thickness, however long, comes out that thick
+        // and still covers every point, so parry2d makes it a polygon (the far wall of the fake
+        // robot's door room, 3 mm by 2.8 m, had aborted a run: "footprint without area").
+        let wall = [
+            (6.001_481_5, 1.828_825_4),
+            (6.000_175_5, 3.185_128_7),
+            (6.000_072_5, 3.193_128),
+            (5.999_798_3, 3.157_821_2),
+            (5.998_512, 1.805_677_9),
+            (5.999_797_3, 0.461_834_9),
+            (6.000_156_4, 0.409_477_4),
+            (6.000_195, 0.434_358_5),
+            (6.001_467_7, 1.746_856_1),
+        ];
+        let pts: Vec<GVec2> = wall.iter().map(|&(x, y)| GVec2::new(x, y)).collect();
+        let f = convex_footprint(&pts, 0.02);
+        let xs = f.iter().map(|p| p.x);
+        let width = xs.clone().fold(f64::MIN, f64::max) - xs.fold(f64::MAX, f64::min);
+        assert!((width - 0.02).abs() < 1e-4, "width {width}");
+        for p in &pts {
+            let q = Point2::new(f64::from(p.x), f64::from(p.y));
+            let inside =
+                (0..f.len()).all(|i| (f[(i + 1) % f.len()] - f[i]).perp(&(q - f[i])) >= -1e-6);
+            assert!(inside, "{q} outside {f:?}");
+        }
+        let local: Vec<GVec2> = f
+            .iter()
+            .map(|p| GVec2::new((p.x - 6.0) as f32, (p.y - 1.8) as f32))
+            .collect();
+        assert!(parry2d::shape::ConvexPolygon::from_convex_hull(&local).is_some());
     }
 }
