@@ -503,6 +503,19 @@ pub(crate) fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<
     };
     let hull = drop_close_vertices(hull, 1e-3);
     let half = 0.5 * min_thickness;
+    // A hull with more area than the minimum thickness times its bounding box's diagonal is wider
+    // than that thickness (its length is at most the diagonal): most hulls stop here, without the
+    // quadratic search for their long axis below.
+    let area = polygon_area(&hull);
+    let (lo_x, hi_x) = hull
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.x), h.max(p.x)));
+    let (lo_y, hi_y) = hull
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.y), h.max(p.y)));
+    if hull.len() >= 3 && area > min_thickness * (hi_x - lo_x).hypot(hi_y - lo_y) {
+        return hull;
+    }
     // The hull's long axis: the segment between its two farthest vertices.
     let (mut a, mut b) = (hull[0], hull[0]);
     for p in &hull {
@@ -528,10 +541,7 @@ pub(crate) fn convex_footprint(pts: &[GVec2], min_thickness: f64) -> Vec<Point2<
         let off = (p - a).dot(&v);
         (lo.min(off), hi.max(off))
     });
-    if hull.len() >= 3
-        && polygon_area(&hull) > min_thickness * min_thickness * 0.25
-        && hi - lo >= min_thickness
-    {
+    if hull.len() >= 3 && area > min_thickness * min_thickness * 0.25 && hi - lo >= min_thickness {
         return hull;
     }
     // Degenerate: the long axis (or the spot), thickened about the hull's middle.
