@@ -61,6 +61,32 @@ impl SimRobot {
         self.frames
     }
 
+    /// Who owns the surface each pixel of a capture from the head's current pose returns
+    /// ([`ColourRangeSensor::owners`]): ground truth for scoring a segmentation. Taken before or
+    /// after [`RangeCamera::capture`] with the world unchanged, it matches that capture pixel for
+    /// pixel.
+    pub fn owners(&self) -> Vec<Option<crate::surface::Owner>> {
+        let pose = self.world.humanoid().sensor_pose();
+        self.in_sensor_scene(|scene| self.range.owners(scene, &pose))
+    }
+
+    /// Calls `f` with the scene the head's camera sees: the world's colliders and surfaces, the
+    /// robot's bounding body left out.
+    fn in_sensor_scene<T>(&self, f: impl FnOnce(&SensorScene<'_>) -> T) -> T {
+        let world = &self.world;
+        let surfaces = world.surfaces();
+        let lookup = move |h| surfaces.get(&h).copied();
+        let scene = SensorScene {
+            bodies: world.bodies(),
+            colliders: world.colliders(),
+            broad_phase: &world.physics().broad_phase,
+            surface: &lookup,
+            texture_seed: world.seed(),
+            exclude: Some(world.humanoid().parts().body),
+        };
+        f(&scene)
+    }
+
     fn stamp<T>(&self, value: T) -> Stamped<T> {
         Stamped {
             stamp: self.world.time(),
@@ -203,23 +229,9 @@ impl RangeCamera for SimRobot {
     /// world's seed and the frame number, so a run is the same every time.
     fn capture(&mut self) -> Result<ColourCloud, RobotError> {
         let world = &self.world;
-        let surfaces = world.surfaces();
-        let lookup = move |h| surfaces.get(&h).copied();
-        let scene = SensorScene {
-            bodies: world.bodies(),
-            colliders: world.colliders(),
-            broad_phase: &world.physics().broad_phase,
-            surface: &lookup,
-            texture_seed: world.seed(),
-            exclude: Some(world.humanoid().parts().body),
-        };
         let pose = world.humanoid().sensor_pose();
-        let cloud = self.range.capture(
-            &scene,
-            &pose,
-            world.time(),
-            frame_seed(world.seed(), self.frames),
-        );
+        let (stamp, seed) = (world.time(), frame_seed(world.seed(), self.frames));
+        let cloud = self.in_sensor_scene(|scene| self.range.capture(scene, &pose, stamp, seed));
         self.frames += 1;
         Ok(cloud)
     }

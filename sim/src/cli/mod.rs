@@ -14,6 +14,7 @@ mod report;
 mod results;
 mod run;
 mod schedule;
+mod segmentation;
 mod sim_bridge;
 mod source;
 mod timeline;
@@ -64,6 +65,9 @@ enum Command {
     /// Write generated scenarios of one or more families, each with an [expect] block right by
     /// construction (checked against the true world).
     Generate(GenerateArgs),
+    /// Score perception's segmentation against the simulation's truth: one look-around from each
+    /// scenario's start, each object's purity and completeness, averaged per family.
+    Segmentation(SegmentationArgs),
     /// Serve a scenario's simulated robot over ROS 2 (DDS), lock-stepped to its client: the topics,
     /// frames and QoS of `--ros2` (defaults otherwise), as `nudge run --robot ros2` expects them.
     /// Ends when the client has been silent for `--idle` seconds, or on Ctrl-C.
@@ -197,6 +201,22 @@ struct CheckArgs {
 }
 
 #[derive(clap::Args, Debug)]
+struct SegmentationArgs {
+    /// Scenario files, or folders (every *.toml in them, sorted by name).
+    #[arg(required = true, value_name = "SCENARIO_OR_DIR")]
+    scenarios: Vec<PathBuf>,
+    /// Seeds per scenario: offset k looks with the scenario's seed + k, k = 0..N.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Looks at once, at least 1 (default: one per core).
+    #[arg(long, value_parser = at_least_one_job())]
+    jobs: Option<usize>,
+    /// Also print every seen object's score, worst first.
+    #[arg(long)]
+    objects: bool,
+}
+
+#[derive(clap::Args, Debug)]
 struct BatchArgs {
     /// Folder of scenarios (every *.toml, sorted by name), or scenario files.
     #[arg(required = true, value_name = "DIR")]
@@ -321,6 +341,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<ExitCode> {
         Some(Command::Inspect(args)) => inspect::inspect(args),
         Some(Command::Replay(args)) => replay::replay(args),
         Some(Command::Generate(args)) => generate::generate(args),
+        Some(Command::Segmentation(args)) => segmentation::segmentation(args),
         Some(Command::SimBridge(args)) => sim_bridge::sim_bridge(args),
         None => run::run(RunArgs::default()),
     }

@@ -168,7 +168,7 @@ impl FloorPlan {
 }
 
 /// A saturated colour away from the floor's and the walls' greys.
-fn colour(rng: &mut ChaCha8Rng) -> [u8; 3] {
+pub fn colour(rng: &mut ChaCha8Rng) -> [u8; 3] {
     let hue = rng.random_range(0.0..6.0_f64);
     let (hi, lo) = (rng.random_range(170..235_u8), rng.random_range(30..80_u8));
     let mid = |f: f64| (f64::from(lo) + f * f64::from(hi - lo)) as u8;

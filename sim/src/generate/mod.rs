@@ -6,6 +6,7 @@
 
 mod families;
 mod furniture;
+pub mod pushable;
 
 use std::fmt;
 
@@ -17,6 +18,7 @@ use crate::scenario::{Expect, ExpectedOutcome, Scenario};
 use crate::world::{World, WorldError};
 
 pub use families::Family;
+pub use pushable::{NeededPush, PushKind, PushMade, check_pushes};
 
 /// Draws per scenario before a family gives up. A draw fails when its random layout breaks the
 /// family's guarantee (pieces that happen to shut the way) or the loader refuses it; that is the
@@ -31,6 +33,10 @@ pub enum Guarantee {
     /// A way exists with the movable objects taken away, and none while this movable object stays
     /// where it is (bolted in place): the robot must move it. Expected: goal, it movable.
     WayNeeds(String),
+    /// A way exists with the movable objects taken away, and none while any one of these movable
+    /// objects stays where it is (two boxes abreast in a doorway, each alone leaving less than the
+    /// robot's width): the robot must move every one. Expected: goal, each movable.
+    WayNeedsEach(Vec<String>),
     /// No way exists even with every movable object taken away, and one would without this static
     /// object: it shuts the goal off. Expected: no path, it static.
     ShutBy(String),
@@ -50,6 +56,11 @@ impl Guarantee {
                 movable: vec![name.clone()],
                 static_: Vec::new(),
             },
+            Self::WayNeedsEach(names) => Expect {
+                outcome: ExpectedOutcome::Goal,
+                movable: names.clone(),
+                static_: Vec::new(),
+            },
             Self::ShutBy(name) => Expect {
                 outcome: ExpectedOutcome::NoPath,
                 movable: Vec::new(),
@@ -65,6 +76,17 @@ impl Guarantee {
             Self::WayNeeds(name) => {
                 ideal(scenario)?.is_some()
                     && ideal(&with_object(scenario, name, Change::Bolt))?.is_none()
+            }
+            Self::WayNeedsEach(names) => {
+                if ideal(scenario)?.is_none() {
+                    return Ok(false);
+                }
+                for name in names {
+                    if ideal(&with_object(scenario, name, Change::Bolt))?.is_some() {
+                        return Ok(false);
+                    }
+                }
+                true
             }
             Self::ShutBy(name) => {
                 ideal(scenario)?.is_none()
@@ -85,6 +107,11 @@ impl fmt::Display for Guarantee {
                 f,
                 "a way exists only once the movable object `{n}` is moved"
             ),
+            Self::WayNeedsEach(names) => write!(
+                f,
+                "a way exists only once each of the movable objects `{}` is moved",
+                names.join("`, `")
+            ),
             Self::ShutBy(n) => write!(
                 f,
                 "the static object `{n}` shuts the goal off: no way exists"
@@ -100,6 +127,9 @@ pub struct Generated {
     pub scenario: Scenario,
     /// What its true world guarantees.
     pub guarantee: Guarantee,
+    /// The pushes it needs the robot to make, each checked on the true world (empty for a family
+    /// that names none).
+    pub pushes: Vec<PushMade>,
 }
 
 /// Why a family could not generate.
@@ -132,7 +162,7 @@ pub fn generate_one(family: Family, seed: u64, index: usize) -> Result<Generated
         seed ^ (family as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (index as u64).rotate_left(32),
     );
     for _ in 0..DRAWS {
-        let (mut scenario, guarantee) = family.draw(&mut rng);
+        let (mut scenario, guarantee, needs) = family.draw(&mut rng);
         scenario.name = format!("{}-{index:03}", family.name());
         scenario.family = Some(family.name().to_string());
         scenario.description = format!("{}: {guarantee}.", family.summary());
@@ -143,6 +173,7 @@ pub fn generate_one(family: Family, seed: u64, index: usize) -> Result<Generated
         let written = to_toml(&Generated {
             scenario: scenario.clone(),
             guarantee: guarantee.clone(),
+            pushes: Vec::new(),
         });
         if !written.is_ok_and(|text| Scenario::from_toml_str(&text, "generated").is_ok()) {
             continue;
@@ -154,10 +185,19 @@ pub fn generate_one(family: Family, seed: u64, index: usize) -> Result<Generated
                 index,
                 source,
             })?;
-        if holds {
+        if !holds {
+            continue;
+        }
+        let world_error = |source| GenerateError::World {
+            family,
+            index,
+            source,
+        };
+        if let Some(pushes) = check_pushes(&scenario, &needs).map_err(world_error)? {
             return Ok(Generated {
                 scenario,
                 guarantee,
+                pushes,
             });
         }
     }
@@ -169,11 +209,26 @@ pub fn generate(family: Family, seed: u64, count: usize) -> Result<Vec<Generated
     (0..count).map(|i| generate_one(family, seed, i)).collect()
 }
 
-/// The scenario as a TOML file, headed by comments that say what it is and guarantees.
+/// The scenario as a TOML file, headed by comments that say what it is, guarantees and needs.
 pub fn to_toml(generated: &Generated) -> Result<String, toml::ser::Error> {
     let body = toml::to_string(&generated.scenario)?;
+    let needs: String = generated
+        .pushes
+        .iter()
+        .map(|p| {
+            let [dx, dy] = p.push.direction;
+            let what = match p.push.kind {
+                PushKind::Clear => format!("pushed {:.2} m", p.distance),
+                PushKind::Test => "push-tested".to_string(),
+            };
+            format!(
+                "# Needs: `{}` {what} along ({dx:.2}, {dy:.2}), the robot standing at ({:.2}, {:.2}).\n",
+                p.push.object, p.stand[0], p.stand[1]
+            )
+        })
+        .collect();
     Ok(format!(
-        "# Generated by `nudge generate`: family {}.\n# Guarantee: {}.\n{body}",
+        "# Generated by `nudge generate`: family {}.\n# Guarantee: {}.\n{needs}{body}",
         generated.scenario.family.as_deref().unwrap_or("-"),
         generated.guarantee
     ))

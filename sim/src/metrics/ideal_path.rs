@@ -52,6 +52,53 @@ pub fn ideal_path_length(
     shortest(&grid, start, goal_cells)
 }
 
+/// Where the robot's centre can get to from a start in the true world: every cell of the same
+/// search as [`ideal_path_length`] that a way of free cells joins to the start's.
+pub struct Reachable {
+    grid: Clearance,
+    reached: Vec<bool>,
+}
+
+impl Reachable {
+    /// The cells the robot's cylinder of `radius` can reach from `start` in `world` now, movable
+    /// objects taken as free floor (bolt them in the scenario to count them). `None` when the start
+    /// lies outside the room.
+    pub fn from(world: &World, start: Point2<f64>, radius: f64) -> Option<Self> {
+        let grid = Clearance::of(world, radius);
+        let start = grid.cell_of(start)?;
+        let mut reached = vec![false; grid.free.len()];
+        reached[grid.index(start)] = true;
+        let mut stack = vec![start];
+        while let Some(cell) = stack.pop() {
+            for m in MOVES {
+                let next = (cell.0 + m.0, cell.1 + m.1);
+                if grid.move_free(cell, m) && !reached[grid.index(next)] {
+                    reached[grid.index(next)] = true;
+                    stack.push(next);
+                }
+            }
+        }
+        Some(Self { grid, reached })
+    }
+
+    /// Whether the robot's centre gets within `tolerance` of `p`: some reached cell's centre lies
+    /// that close.
+    pub fn near(&self, p: Point2<f64>, tolerance: f64) -> bool {
+        let span = (tolerance / CELL).ceil() as i32;
+        let Some((x, y)) = self.grid.cell_of(p) else {
+            return false;
+        };
+        (-span..=span).any(|dy| {
+            (-span..=span).any(|dx| {
+                let c = (x + dx, y + dy);
+                self.grid.inside(c)
+                    && self.reached[self.grid.index(c)]
+                    && (centre(c) - p).norm() <= tolerance
+            })
+        })
+    }
+}
+
 /// Cells where the robot's centre may stand: its cylinder clear of walls and static objects.
 struct Clearance {
     width: i32,

@@ -21,6 +21,7 @@
 
 pub mod ghosts;
 pub mod ideal_path;
+pub mod segmentation;
 
 use nalgebra::{Isometry3, Point2};
 use nudge_executive::{RunReport, State, Verdict};

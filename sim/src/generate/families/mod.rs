@@ -11,9 +11,11 @@
 //! | `force-limit` | the same door, the box's μ m g 10–16 N or 20–30 N (0.5–0.8 or 1.0–1.5 × the 20 N limit; the band between is not scored) | as `blocked-door`, movable below 16 N |
 //! | `overhang` | a shelf across the whole room above the robot's head (1.6–1.9 m), a low bench under part of it | a way, under the shelf |
 //! | `wanderers` | an open room with 0–10 people walking 0.3–1.0 m/s between free places, 2–4 light pieces | a way once movable things are moved |
+//! | `touching` | one opening between two rooms (or across a hall) shut by things standing as people leave them: flush against a wall, two abreast, against a bolted cabinet, turned in a doorway, low against a partition; a quarter bolted | a way only once they are pushed (each push checked: a reachable stand pose, a sweep that fits), or none: the bolted one shuts it |
 
 mod doors;
 mod rooms;
+mod touching;
 mod wanderers;
 
 use std::fmt;
@@ -21,6 +23,7 @@ use std::fmt;
 use rand_chacha::ChaCha8Rng;
 
 use super::Guarantee;
+use super::pushable::NeededPush;
 use crate::scenario::Scenario;
 
 /// A family of generated scenarios.
@@ -42,11 +45,13 @@ pub enum Family {
     Overhang,
     /// People walking about.
     Wanderers,
+    /// Things standing against walls, each other and bolted furniture in the one opening.
+    Touching,
 }
 
 impl Family {
     /// Every family, in order.
-    pub const ALL: [Family; 8] = [
+    pub const ALL: [Family; 9] = [
         Family::OpenClutter,
         Family::LargeRoom,
         Family::Flat,
@@ -55,6 +60,7 @@ impl Family {
         Family::ForceLimit,
         Family::Overhang,
         Family::Wanderers,
+        Family::Touching,
     ];
 
     /// The family's name in files and tables.
@@ -68,6 +74,7 @@ impl Family {
             Family::ForceLimit => "force-limit",
             Family::Overhang => "overhang",
             Family::Wanderers => "wanderers",
+            Family::Touching => "touching",
         }
     }
 
@@ -82,12 +89,17 @@ impl Family {
             Family::ForceLimit => "Two rooms, a box in the door near the push force limit",
             Family::Overhang => "A shelf across the room above the robot's head",
             Family::Wanderers => "An open room with people walking about",
+            Family::Touching => {
+                "Two rooms or a hall, the one opening shut by things standing against walls and each other"
+            }
         }
     }
 
-    /// One draw: a scenario (name, family, expectation filled in by the caller) and its guarantee.
-    pub(super) fn draw(self, rng: &mut ChaCha8Rng) -> (Scenario, Guarantee) {
-        match self {
+    /// One draw: a scenario (name, family, expectation filled in by the caller), its guarantee and
+    /// the pushes it needs the robot to make (checked on the true world by the caller).
+    pub(super) fn draw(self, rng: &mut ChaCha8Rng) -> (Scenario, Guarantee, Vec<NeededPush>) {
+        let none = |(s, g): (Scenario, Guarantee)| (s, g, Vec::new());
+        none(match self {
             Family::OpenClutter => rooms::open_clutter(rng),
             Family::LargeRoom => rooms::large_room(rng),
             Family::Flat => doors::flat(rng),
@@ -96,7 +108,8 @@ impl Family {
             Family::ForceLimit => doors::blocked_door(rng, doors::Blocker::NearTheLimit),
             Family::Overhang => rooms::overhang(rng),
             Family::Wanderers => wanderers::wanderers(rng),
-        }
+            Family::Touching => return touching::touching(rng),
+        })
     }
 }
 

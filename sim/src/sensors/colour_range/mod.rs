@@ -212,6 +212,46 @@ impl ColourRangeSensor {
     }
 }
 
+impl ColourRangeSensor {
+    /// Who owns the surface each pixel of a frame from `sensor_pose` returns, row-major like the
+    /// image (`None`: no return): the ground truth a segmentation is scored against. The rays and
+    /// the rules that keep a return are [`Self::capture`]'s, so a capture from the same pose in the
+    /// same scene has a point exactly where this has an owner.
+    pub fn owners(
+        &self,
+        scene: &SensorScene<'_>,
+        sensor_pose: &Isometry3<f64>,
+    ) -> Vec<Option<crate::surface::Owner>> {
+        let width = self.config.camera.width;
+        let mut out = vec![None; self.directions.len()];
+        let pose = to_pose(sensor_pose);
+        if self.directions.is_empty() || !pose.is_finite() {
+            return out;
+        }
+        let frame = Frame {
+            sensor: self,
+            scene,
+            pose,
+            frame_seed: 0,
+        };
+        let rows = out.par_chunks_mut(width).enumerate();
+        match self.config.caster {
+            RayCaster::RowCulled => {
+                let leaves = Leaves::gather(&frame);
+                rows.for_each_init(
+                    || CulledCaster::new(&leaves),
+                    |caster, (row, o)| frame.owners_row(caster, row, o),
+                );
+            }
+            RayCaster::QueryPipeline => rows.for_each_init(
+                || PipelineCaster::new(scene),
+                |caster, (row, o)| frame.owners_row(caster, row, o),
+            ),
+        }
+        out
+    }
+}
+
 /// A nalgebra pose as rapier's single-precision pose.
 fn to_pose(iso: &Isometry3<f64>) -> Pose {
     let t = iso.translation.vector;

@@ -66,16 +66,11 @@ impl Frame<'_> {
         for (col, dir) in dirs.iter().enumerate() {
             let world_dir = rotation * *dir;
             let ray = Ray::new(self.pose.translation, world_dir);
-            let Some(hit) = caster.first_hit(col, &ray, max_range) else {
+            let Some(hit) = self.kept_hit(caster, col, &ray, min_range, max_range) else {
                 continue;
             };
             let toi = hit.toi;
             let cos_incidence = hit.normal.dot(world_dir).abs();
-            let own_part =
-                config.self_filter && hit.surface.is_some_and(|s| matches!(s.owner, Owner::Robot));
-            if toi < min_range || cos_incidence < self.sensor.min_cos_incidence || own_part {
-                continue;
-            }
 
             let mut noise = RayRng::new(self.frame_seed, first + col);
             let true_range = f64::from(toi);
@@ -101,6 +96,51 @@ impl Frame<'_> {
                 // Rounds half up; the float-to-int cast saturates, which clamps to 0–255.
                 (v + 0.5) as u8
             });
+        }
+    }
+
+    /// The surface `ray` (column `col` of the row begun) returns, if the sensor keeps it: nearer than
+    /// the range limit and farther than the least range, not at grazing incidence, not the robot's
+    /// own part when self-filtered. Noise is added after: it never changes which surface returns.
+    fn kept_hit<'c>(
+        &self,
+        caster: &mut impl RowCaster<'c>,
+        col: usize,
+        ray: &Ray,
+        min_range: Real,
+        max_range: Real,
+    ) -> Option<Hit> {
+        let config = &self.sensor.config;
+        let hit = caster.first_hit(col, ray, max_range)?;
+        let cos_incidence = hit.normal.dot(ray.dir).abs();
+        let own_part =
+            config.self_filter && hit.surface.is_some_and(|s| matches!(s.owner, Owner::Robot));
+        let kept =
+            hit.toi >= min_range && cos_incidence >= self.sensor.min_cos_incidence && !own_part;
+        kept.then_some(hit)
+    }
+
+    /// Who owns the surface each pixel of `row` returns (`None`: no return, or a surface without
+    /// an owner): the ground truth a segmentation is scored against.
+    pub(super) fn owners_row<'c>(
+        &self,
+        caster: &mut impl RowCaster<'c>,
+        row: usize,
+        out: &mut [Option<Owner>],
+    ) {
+        let config = &self.sensor.config;
+        let width = config.camera.width;
+        let min_range = config.camera.min_range as Real;
+        let max_range = config.camera.max_range as Real;
+        let first = row * width;
+        let dirs = &self.sensor.directions[first..first + width];
+        caster.begin_row(row);
+        let rotation = Matrix::from_quat(self.pose.rotation);
+        for (col, dir) in dirs.iter().enumerate() {
+            let ray = Ray::new(self.pose.translation, rotation * *dir);
+            out[col] = self
+                .kept_hit(caster, col, &ray, min_range, max_range)
+                .and_then(|hit| hit.surface.map(|s| s.owner));
         }
     }
 }
