@@ -20,6 +20,7 @@ use rayon::prelude::*;
 
 use crate::cloud::ColourCloud;
 use crate::error::PerceptionError;
+use crate::hue::{ColourSum, HueSplit};
 
 /// Parameters of the elevation map.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +42,11 @@ pub struct ElevationConfig {
     /// ranges (±2.5σ of the ≈ 5 mm vertical noise), so a flat top's median is the surface itself,
     /// and small enough that a vertical face's median stays within 15 mm of its upper edge.
     pub top_band: f64,
+    /// Colours a cell keeps apart ([`crate::hue`]): the returns of a cell that differ in
+    /// chromaticity beyond the camera's colour noise go into cells of their own at the same place
+    /// (its *layers*), so that a red box flush against a grey wall shares no cell with it. `None`:
+    /// one cell per place, whatever its colours.
+    pub hue: Option<HueSplit>,
 }
 
 impl Default for ElevationConfig {
@@ -52,6 +58,7 @@ impl Default for ElevationConfig {
             max_height: 3.0,
             max_range: 12.0,
             top_band: 0.03,
+            hue: Some(HueSplit::default()),
         }
     }
 }
@@ -88,10 +95,14 @@ pub struct Cell {
     /// The cell's extreme points in the map frame's xy plane, one per direction (−x, +x, −y, +y,
     /// −(x+y), +(x+y), −(x−y), +(x−y)). Their convex hull is the cell's points' hull up to a few mm.
     pub extremes: [[f32; 2]; 8],
+    /// The colours of its points, summed.
+    pub colour: ColourSum,
+    /// The next cell at the same place (another colour), or [`NO_CELL`].
+    next_layer: u32,
 }
 
 impl Cell {
-    fn new(col: u32, row: u32, x: f32, y: f32, h: f32) -> Self {
+    fn new(col: u32, row: u32, x: f32, y: f32, h: f32, rgb: [u8; 3]) -> Self {
         Self {
             col,
             row,
@@ -100,10 +111,13 @@ impl Cell {
             z_max: h,
             z_top: h,
             extremes: [[x, y]; 8],
+            colour: ColourSum::of(rgb),
+            next_layer: NO_CELL,
         }
     }
 
-    fn add(&mut self, x: f32, y: f32, h: f32) {
+    fn add(&mut self, x: f32, y: f32, h: f32, rgb: [u8; 3]) {
+        self.colour.add(rgb);
         self.count += 1;
         self.z_min = self.z_min.min(h);
         self.z_max = self.z_max.max(h);
@@ -130,6 +144,7 @@ pub struct ElevationMap {
     index: Vec<u32>,
     cells: Vec<Cell>,
     point_cell: Vec<u32>,
+    hue: Option<HueSplit>,
 }
 
 impl ElevationMap {
@@ -221,6 +236,7 @@ impl ElevationMap {
                 index: Vec::new(),
                 cells: Vec::new(),
                 point_cell: vec![NO_CELL; cloud.len()],
+                hue: config.hue.clone(),
             });
         }
         let cols = (c1 - c0 + 1) as usize;
@@ -234,6 +250,7 @@ impl ElevationMap {
         let mut cells: Vec<Cell> = Vec::new();
         let mut point_cell = vec![NO_CELL; cloud.len()];
         let floor_z32 = floor_z as f32;
+        let colours = cloud.colours();
         for (i, &(c, r)) in grid_pos.iter().enumerate() {
             if c == NO_CELL {
                 continue;
@@ -241,13 +258,31 @@ impl ElevationMap {
             let (col, row) = (c - c0, r - r0);
             let slot = &mut index[row as usize * cols + col as usize];
             let h = zs[i] - floor_z32;
-            if *slot == NO_CELL {
+            let rgb = colours[i];
+            let k = if *slot == NO_CELL {
                 *slot = cells.len() as u32;
-                cells.push(Cell::new(col, row, xs[i], ys[i], h));
+                cells.push(Cell::new(col, row, xs[i], ys[i], h, rgb));
+                *slot
             } else {
-                cells[*slot as usize].add(xs[i], ys[i], h);
-            }
-            point_cell[i] = *slot;
+                match layer_for(&cells, *slot, rgb, config.hue.as_ref()) {
+                    Some(k) => {
+                        cells[k as usize].add(xs[i], ys[i], h, rgb);
+                        k
+                    }
+                    None => {
+                        // A colour of its own at this place: a new layer, linked after the last.
+                        let k = cells.len() as u32;
+                        let mut last = *slot;
+                        while cells[last as usize].next_layer != NO_CELL {
+                            last = cells[last as usize].next_layer;
+                        }
+                        cells[last as usize].next_layer = k;
+                        cells.push(Cell::new(col, row, xs[i], ys[i], h, rgb));
+                        k
+                    }
+                }
+            };
+            point_cell[i] = k;
         }
         robust_tops(
             &mut cells,
@@ -266,6 +301,7 @@ impl ElevationMap {
             index,
             cells,
             point_cell,
+            hue: config.hue.clone(),
         })
     }
 
@@ -308,7 +344,33 @@ impl ElevationMap {
             .count()
     }
 
-    /// The touched cell at grid column/row, if any.
+    /// Every touched cell at grid column/row, one per colour kept apart there (see
+    /// [`ElevationConfig::hue`]), first touched first.
+    pub fn layers_at(&self, col: i64, row: i64) -> impl Iterator<Item = u32> + '_ {
+        let mut next = self.cell_at(col, row).unwrap_or(NO_CELL);
+        std::iter::from_fn(move || {
+            let k = next;
+            (k != NO_CELL).then(|| {
+                next = self.cells[k as usize].next_layer;
+                k
+            })
+        })
+    }
+
+    /// Whether touched cells `a` and `b` hold one surface's colour: always, when the map keeps no
+    /// colours apart.
+    pub fn same_colour(&self, a: u32, b: u32) -> bool {
+        match &self.hue {
+            Some(hue) => hue.same(
+                &self.cells[a as usize].colour,
+                &self.cells[b as usize].colour,
+            ),
+            None => true,
+        }
+    }
+
+    /// The first touched cell at grid column/row, if any (the others there hold other colours:
+    /// [`Self::layers_at`]).
     pub fn cell_at(&self, col: i64, row: i64) -> Option<u32> {
         if col < 0 || row < 0 || col as usize >= self.cols || row as usize >= self.rows {
             return None;
@@ -329,6 +391,30 @@ impl ElevationMap {
             self.origin.y + (f64::from(row) + 0.5) * self.cell_size,
         )
     }
+}
+
+/// The layer at the place whose first cell is `first` that a return of colour `rgb` joins: the first
+/// of one colour with it; when none is and the place holds [`HueSplit::layers`] already, the
+/// nearest in colour; `None` when it starts a layer of its own. Without a hue split, the first.
+fn layer_for(cells: &[Cell], first: u32, rgb: [u8; 3], hue: Option<&HueSplit>) -> Option<u32> {
+    let Some(hue) = hue else {
+        return Some(first);
+    };
+    let point = ColourSum::of(rgb);
+    let (mut k, mut layers) = (first, 0);
+    let mut nearest = (f32::INFINITY, first);
+    while k != NO_CELL {
+        let excess = hue.excess(&cells[k as usize].colour, &point);
+        if excess <= 0.0 {
+            return Some(k);
+        }
+        if excess < nearest.0 {
+            nearest = (excess, k);
+        }
+        layers += 1;
+        k = cells[k as usize].next_layer;
+    }
+    (layers >= hue.layers).then_some(nearest.1)
 }
 
 /// Sets every cell's [`Cell::z_top`]: the median of its points' heights within `band` of its highest.

@@ -14,6 +14,7 @@ pub mod elevation;
 pub mod error;
 pub mod floor;
 pub mod grid;
+pub mod hue;
 pub mod icp;
 pub mod lookaround;
 pub mod pipeline;

@@ -459,11 +459,10 @@ fn grow_within(map: &ElevationMap, cells: &[u32], root: &HashSet<u32>) -> Vec<u3
         let c = &all[k as usize];
         for dr in -1..=1 {
             for dc in -1..=1 {
-                if let Some(n) = map.cell_at(i64::from(c.col) + dc, i64::from(c.row) + dr)
-                    && root.contains(&n)
-                    && seen.insert(n)
-                {
-                    grown.push(n);
+                for n in map.layers_at(i64::from(c.col) + dc, i64::from(c.row) + dr) {
+                    if root.contains(&n) && seen.insert(n) {
+                        grown.push(n);
+                    }
                 }
             }
         }

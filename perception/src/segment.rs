@@ -5,6 +5,11 @@
 //! closer than one cell (40 mm) merge — the paper's own limitation ("segmentation with simple labeling
 //! fails when objects are located too close").
 //!
+//! Cells of different colours never join (see [`crate::hue`]): the elevation map keeps the returns of
+//! a place that differ in chromaticity in cells of their own, and neighbours join only when their
+//! colours are one surface's. A red box flush against a grey wall, or two chairs of different
+//! colours abreast, are two clusters however close they stand.
+//!
 //! Cells are split into two height classes before labelling: *low* cells (highest point at most
 //! [`SegmentConfig::low_height`] above the floor: mats, cables, floor noise) only join low cells, and
 //! tall cells only tall ones. A mat touching a chair therefore stays a flat, traversable cluster instead
@@ -68,14 +73,16 @@ pub fn label(map: &ElevationMap, config: &SegmentConfig) -> Vec<Cluster> {
             members.push(k);
             let c = &cells[k as usize];
             for (dc, dr) in neighbours(config.connectivity) {
-                let Some(n) = map.cell_at(i64::from(c.col) + dc, i64::from(c.row) + dr) else {
-                    continue;
-                };
-                let nu = n as usize;
-                if !seen[nu] && map.is_occupied(nu) && (cells[nu].z_max <= config.low_height) == low
-                {
-                    seen[nu] = true;
-                    stack.push(n);
+                for n in map.layers_at(i64::from(c.col) + dc, i64::from(c.row) + dr) {
+                    let nu = n as usize;
+                    if !seen[nu]
+                        && map.is_occupied(nu)
+                        && (cells[nu].z_max <= config.low_height) == low
+                        && map.same_colour(k, n)
+                    {
+                        seen[nu] = true;
+                        stack.push(n);
+                    }
                 }
             }
         }
@@ -105,11 +112,11 @@ pub fn components(map: &ElevationMap, cells: &[u32], connectivity: Connectivity)
             comp.push(k);
             let c = &all[k as usize];
             for (dc, dr) in neighbours(connectivity) {
-                if let Some(n) = map.cell_at(i64::from(c.col) + dc, i64::from(c.row) + dr)
-                    && member.get(&n) == Some(&false)
-                {
-                    member.insert(n, true);
-                    stack.push(n);
+                for n in map.layers_at(i64::from(c.col) + dc, i64::from(c.row) + dr) {
+                    if member.get(&n) == Some(&false) {
+                        member.insert(n, true);
+                        stack.push(n);
+                    }
                 }
             }
         }

@@ -106,6 +106,10 @@ pub struct CameraModel {
     pub min_range: f64,
     /// Returns farther than this are lost (m). SR-4000: 5, its non-ambiguity range.
     pub max_range: f64,
+    /// Noise σ of each channel of the colour registered to a return (8-bit counts): 3 for the
+    /// colour cameras beside the paper's SR-4000. The simulation adds this much; perception tells
+    /// touching things apart by colour only beyond what it explains (`nudge_perception::hue`).
+    pub colour_noise: f64,
 }
 
 impl Default for CameraModel {
@@ -117,6 +121,7 @@ impl Default for CameraModel {
             v_fov_deg: 34.6,
             min_range: 0.1,
             max_range: 5.0,
+            colour_noise: 3.0,
         }
     }
 }

@@ -120,6 +120,11 @@ impl RobotModel {
                 c.max_range
             ),
         )?;
+        check(
+            "camera.colour_noise",
+            c.colour_noise.is_finite() && c.colour_noise >= 0.0,
+            format!("must be zero or more, got {}", c.colour_noise),
+        )?;
         let a = &self.arm;
         interval("arm.reach_x", a.reach_x)?;
         interval("arm.reach_y", a.reach_y)?;

@@ -236,7 +236,11 @@ impl RunConfig {
 
     /// Defaults for `model` heading to `goal`.
     pub fn new(model: RobotModel, goal: Point2<f64>, goal_tolerance: f64, seed: u64) -> Self {
-        let perception = PerceptionConfig::default();
+        let mut perception = PerceptionConfig::default();
+        // Colour tells touching things apart beyond what this camera's colour noise explains.
+        if let Some(hue) = perception.elevation.hue.as_mut() {
+            hue.noise = model.camera.colour_noise;
+        }
         Self {
             executive: ExecutiveConfig::default(),
             // The push planner reads footprints made of perception's elevation cells, and pushes as

@@ -7,7 +7,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::Context;
-use nudge_perception::{PerceptionConfig, detect_from_views};
+use nudge_perception::detect_from_views;
 
 use super::SegmentationArgs;
 use super::source::{Source, expand};
@@ -88,7 +88,7 @@ pub(super) fn segmentation(args: SegmentationArgs) -> anyhow::Result<ExitCode> {
     );
     println!(
         "{:<24} {:>5}  {:>7} {:>7} {:>7} {:>7}  {:>7} {:>7} {:>7}",
-        "family", "looks", "objects", "purity", "compl.", "both ok", "long", "purity", "compl."
+        "family", "looks", "objects", "purity", "compl.", "both ok", "struct.", "purity", "compl."
     );
     let mut all: Vec<Seen> = Vec::new();
     for (family, FamilyLooks { looks, objects }) in &families {
@@ -103,8 +103,9 @@ pub(super) fn segmentation(args: SegmentationArgs) -> anyhow::Result<ExitCode> {
         all.extend(objects.iter().cloned());
     }
     println!(
-        "purity, compl.: means over the objects the robot could push (longest side up to its largest \
-         candidate); both ok: share with purity >= 0.97 and completeness >= 0.95; long: the others"
+        "purity, compl.: means over the things to push (lower than the room's walls, no longer than \
+         the robot's largest candidate); both ok: share with purity >= 0.97 and completeness >= 0.95; \
+         struct.: the room's structure (partitions as tall as the walls, longer things)"
     );
     if args.objects {
         all.sort_by(|a, b| {
@@ -129,9 +130,6 @@ pub(super) fn segmentation(args: SegmentationArgs) -> anyhow::Result<ExitCode> {
 fn look(source: &Source, seed: u64) -> Looked {
     let scenario = &source.scenario;
     let mut robot = SimRobot::new(scenario, seed)?;
-    let config = PerceptionConfig::default();
-    let look = labelled_look(&mut robot, &config)?;
-    let prisms = detect_from_views(&look.views, &look.base, &config, &[])?.prisms;
     let goal = nalgebra::Point2::new(scenario.goal.position[0], scenario.goal.position[1]);
     let run = nudge_executive::RunConfig::new(
         scenario.robot.model(),
@@ -139,6 +137,10 @@ fn look(source: &Source, seed: u64) -> Looked {
         scenario.goal.tolerance,
         seed,
     );
+    // Perception as the executive runs it for this robot.
+    let config = &run.perception;
+    let look = labelled_look(&mut robot, config)?;
+    let prisms = detect_from_views(&look.views, &look.base, config, &[])?.prisms;
     Ok(score_look(
         &look,
         &prisms,

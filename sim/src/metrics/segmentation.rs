@@ -12,9 +12,10 @@
 //!
 //! Both count only returns above the floor band perception labels as low (`low_height`, 5 cm): the
 //! bottom centimetres of every object meet the floor, which perception takes away by design. An
-//! object counts as seen with at least [`MIN_RETURNS`] returns in that band. Objects too long for
-//! the robot to push (a partition, whose runs perception cuts into convex pieces on purpose) are
-//! scored apart from the rest, which are what a push test and a clearing push work on.
+//! object counts as seen with at least [`MIN_RETURNS`] returns in that band. The room's structure is
+//! scored apart from the things a push test and a clearing push work on: objects as tall as the
+//! room's walls (partitions, joined to the walls they meet and cut with them into convex runs) or
+//! longer than the robot pushes.
 
 use std::collections::HashMap;
 
@@ -41,8 +42,8 @@ pub struct ObjectScore {
     pub completeness: f64,
     /// Share of its main obstacle's returns that are its own.
     pub purity: f64,
-    /// Whether the robot could push it: its longest side is no more than the executive's largest
-    /// candidate.
+    /// Whether it is a thing to push rather than the room's structure: lower than the room's walls
+    /// and no longer than the executive's largest candidate.
     pub pushable: bool,
 }
 
@@ -139,9 +140,9 @@ pub fn score_look(
             .map(|(total, by)| (by.get(&i).copied().unwrap_or(0), *total))
             .max_by_key(|(own, _)| *own)
             .unwrap_or((0, 0));
-        let longest = match spec.kind {
-            crate::scenario::ObjectKind::Cylinder => spec.size[0],
-            _ => spec.size[0].max(spec.size[1]),
+        let (longest, height) = match spec.kind {
+            crate::scenario::ObjectKind::Cylinder => (spec.size[0], spec.size[1]),
+            _ => (spec.size[0].max(spec.size[1]), spec.size[2]),
         };
         scores.push(ObjectScore {
             name: spec.name.clone(),
@@ -152,7 +153,8 @@ pub fn score_look(
             } else {
                 own as f64 / total as f64
             },
-            pushable: longest <= longest_push,
+            pushable: longest <= longest_push
+                && spec.elevation + height < scenario.room.wall_height,
         });
     }
     scores

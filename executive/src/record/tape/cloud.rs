@@ -77,6 +77,8 @@ fn read_camera_model(d: &mut Dec<'_>) -> Result<CameraModel, DecodeError> {
         v_fov_deg: d.f64()?,
         min_range: d.f64()?,
         max_range: d.f64()?,
+        // The tape keeps what places a cloud's points on their rays, not the colour's noise.
+        ..CameraModel::default()
     })
 }
 

@@ -53,9 +53,9 @@ impl Default for ColourRangeConfig {
 }
 
 impl ColourRangeConfig {
-    /// A sensor with `camera`'s image and range, and the SR-4000's noise: 4 mm σ at 1.3 m growing
-    /// linearly with range (shot-noise limited) and as 1/√cos of the incidence, lost beyond 80°
-    /// incidence, 3 units of colour noise.
+    /// A sensor with `camera`'s image, range and colour noise, and the SR-4000's range noise: 4 mm
+    /// σ at 1.3 m growing linearly with range (shot-noise limited) and as 1/√cos of the incidence,
+    /// lost beyond 80° incidence.
     pub fn for_camera(camera: &CameraModel) -> Self {
         Self {
             camera: camera.clone(),
@@ -64,7 +64,7 @@ impl ColourRangeConfig {
             range_sigma_distance_exponent: 1.0,
             range_sigma_incidence_exponent: 0.5,
             max_incidence_deg: 80.0,
-            colour_noise_sigma: 3.0,
+            colour_noise_sigma: camera.colour_noise,
             unknown_colour: [128, 128, 128],
             self_filter: true,
             caster: RayCaster::RowCulled,
