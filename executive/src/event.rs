@@ -41,8 +41,9 @@ pub enum SetAsideWhy {
         /// The largest the robot pushes (m).
         limit: f64,
     },
-    /// Taken for room structure: at the edge of everything seen, its top out of view, nothing seen
-    /// beyond it.
+    /// Taken for room structure: at the edge of everything seen, with its top out of the camera's
+    /// view from every place a look showed it from (a wall). A low thing at the edge, its top in
+    /// view, is a candidate like any other, whatever stands beyond it.
     Structure,
 }
 

@@ -623,9 +623,9 @@ fn select_candidate(k: Knowledge, config: &ExecutiveConfig, edge: Edge) -> Step 
     )
 }
 
-/// Why an obstacle was set aside, for the explanation: its size, or for one a push test found
-/// movable, that it now looks like structure too; `None` for room structure nobody pushed (the walls:
-/// listing them explains nothing).
+/// Why an obstacle was set aside, for the explanation: its size, or that it was taken for room
+/// structure, and for one a push test found movable, that its outline now takes in what it was
+/// pushed against.
 fn why_set_aside(s: &SetAside, k: &Knowledge) -> Option<String> {
     let movable = k
         .explanation
@@ -636,10 +636,9 @@ fn why_set_aside(s: &SetAside, k: &Knowledge) -> Option<String> {
         SetAsideWhy::TooLarge { extent, limit } => {
             format!("{extent:.2} m across, more than the {limit:.1} m the robot pushes")
         }
-        SetAsideWhy::Structure if movable => {
-            "taken for room structure (the edge of all that was seen, its top out of view)".into()
+        SetAsideWhy::Structure => {
+            "taken for room structure: at the edge of all that was seen, its top out of view".into()
         }
-        SetAsideWhy::Structure => return None,
     };
     Some(if movable {
         format!("{why}: found movable, its outline now takes in what it was pushed against")

@@ -22,8 +22,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             Ok(v) => v,
             Err(e) => return Event::PerceptionFailed(e),
         };
-        // Candidates: obstacles that block the robot (not stepped over, not passed under), not room
-        // structure, not settled, small enough to push; those too large are set aside, saying so.
+        // Candidates: obstacles that block the robot (not stepped over, not passed under), not
+        // settled, not room structure, small enough to push; the others are set aside, saying why.
+        // A low box flush against a wall is a candidate: only a top out of view makes structure.
         let limit = self.config.max_candidate_extent;
         let mut set_aside = Vec::new();
         let mut by_distance: Vec<(f64, ObjectId)> = Vec::new();
@@ -38,9 +39,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             };
             let extent = p.extent();
             // A push test's finding outweighs how the object looks: one found movable (or moved by
-            // a push) that came to rest clear of everything else, beside a wall or at the edge of
-            // all that was seen, is pushed again while it is small enough. Resting against
-            // something, its outline may have taken that in, and it stays structure.
+            // a push) that came to rest clear of everything else is pushed again while it is small
+            // enough, its top seen or not. Resting against something, its outline may have taken
+            // that in.
             let moves = (self.world.movable.contains(&p.id) || self.world.moved.contains(&p.id))
                 && !self.world.rests_against_another(p);
             let why = if !moves && self.world.is_structure(p, &self.config) {

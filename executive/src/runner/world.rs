@@ -496,49 +496,25 @@ impl WorldModel {
     }
 
     /// Whether `prism` is room structure, not an object to push: it lies at the edge of everything
-    /// seen, and it is not merely the farthest low thing seen in some direction.
+    /// seen and its top was out of the camera's view from every place a look showed it from (a
+    /// wall is cut by the view's top). A low thing at the edge whose top was in view is a
+    /// candidate, whatever stands beyond it: a box flush against a wall, or the farthest thing seen
+    /// across a corridor. What it measurably is decides, the edge only says where walls can be.
     pub fn is_structure(&self, prism: &Prism, config: &RunConfig) -> bool {
         let Some((lo, hi)) = self.seen else {
             return false;
         };
         let m = config.structure_margin;
         let (plo, phi) = footprint_box(prism);
-        let on_edge = |side: &Side| {
+        let on_edge = Side::ALL.into_iter().any(|side| {
             let axis = side.axis;
             if side.outward {
                 phi[axis] > hi[axis] - m
             } else {
                 plo[axis] < lo[axis] + m
             }
-        };
-        let edges: Vec<Side> = Side::ALL.into_iter().filter(on_edge).collect();
-        if edges.is_empty() {
-            return false;
-        }
-        // A wall's top is never in view, and nothing is seen beyond it. A thing whose top was in view
-        // and with nothing seen beyond it on an edge is only the farthest thing seen so far in that
-        // direction (a box across a corridor, seen from its far end): walking up would show what
-        // lies behind it, so it is a candidate like any other. A low thing against a wall has the
-        // wall's prism beyond it, and stays structure.
-        let frontier = edges.iter().any(|side| !self.anything_beyond(prism, side));
-        !(frontier && self.top_seen(prism, config))
-    }
-
-    /// Whether another obstacle reaches farther out than `prism` on `side` along the stretch the
-    /// prism spans: a wall behind a cabinet.
-    fn anything_beyond(&self, prism: &Prism, side: &Side) -> bool {
-        let (plo, phi) = footprint_box(prism);
-        let (axis, across) = (side.axis, 1 - side.axis);
-        self.prisms.iter().filter(|q| q.id != prism.id).any(|q| {
-            let (qlo, qhi) = footprint_box(q);
-            let overlaps = qlo[across] < phi[across] && qhi[across] > plo[across];
-            let farther = if side.outward {
-                qhi[axis] > phi[axis]
-            } else {
-                qlo[axis] < plo[axis]
-            };
-            overlaps && farther
-        })
+        });
+        on_edge && !self.top_seen(prism, config)
     }
 
     /// Whether the top of `prism` was in view from every place a look showed it from, with a margin
@@ -1145,9 +1121,9 @@ pub(super) mod tests {
     }
 
     #[test]
-    fn a_low_box_that_is_the_farthest_thing_seen_is_no_wall_but_a_wall_and_what_stands_against_it_are()
-     {
-        // Invariant: at the edge of everything seen, a wall (its top out of view) and a low cabinet with the wall's obstacle behind it are structure, never push candidates; a low box whose top was in view with nothing seen beyond it (a box across a corridor, seen from its far end) is a candidate; anything away from the edge is never structure.
+    fn at_the_edge_of_all_seen_a_wall_is_structure_but_a_low_box_is_not_whatever_stands_beyond_it()
+    {
+        // Invariant: at the edge of everything seen, a wall (its top out of view) is structure, never a push candidate; a low cabinet flush against that wall and a low box whose top was in view with nothing seen beyond it (a box across a corridor, seen from its far end) are candidates; anything away from the edge is never structure.
         let config = config_to(Point2::new(5.0, 1.0));
         // The wall's top: the view's top ray 5 m away passes 1.4 − 5 · tan 2.7° ≈ 1.16 m up.
         let wall = box_prism(1, (0.0, -0.02, 6.0, 0.03), 1.15);
@@ -1161,7 +1137,7 @@ pub(super) mod tests {
             middle.clone(),
         ]);
         assert!(world.is_structure(&wall, &config));
-        assert!(world.is_structure(&cabinet, &config));
+        assert!(!world.is_structure(&cabinet, &config));
         assert!(!world.is_structure(&far_box, &config));
         assert!(!world.is_structure(&middle, &config));
         // The same box, as tall as the view's top where it stands: it may be a wall.
