@@ -2,7 +2,7 @@
 //! person standing in the way of the only push, and four people wandering an 8 × 6 m room.
 
 use nudge_executive::record::NullObserver;
-use nudge_executive::{CandidatePolicy, Edge, RunReport, State};
+use nudge_executive::{CandidatePolicy, RunReport, State};
 use nudge_sim::adapter::SimRobot;
 use nudge_sim::metrics::ghosts;
 use nudge_sim::truth::Truth;
@@ -93,47 +93,4 @@ fn a_person_pacing_past_the_barrier_is_never_push_tested_or_touched() {
 fn a_walk_the_pacer_blocks_is_waited_out_and_not_held_against_the_object() {
     // Invariant: when the pacer steps into the robot's way to a push pose and the base stops short, the robot waits for them and walks on (Miyazaki's stop and return) rather than counting the object's approach as blocked (on seed 10 two such blocks per chair once left no candidate and ended in no path): it reaches the goal, touches nobody, keeps no ghost and judges every object right.
     assert_safe_and_clean("person-pacing", 10);
-}
-
-#[test]
-fn a_chair_that_slid_unmeasured_is_looked_at_again_not_retested_along_the_same_line() {
-    // Invariant: person-pacing seed 8's chair-2 slides about 156 mm under the push test's hand while its colour ICP fails (a person walks through the look after it); the robot looks again before any retest (`MovedUnmeasured`) instead of retesting along the line the chair has slid and turned off (once a retest met it edge-on at the limit and two ambiguous tests called it static), judges no object wrong, and touches nobody. (Since the hand reaches its line beside the body the run's timing has moved: the pacer now keeps the chair from being tested again, and the run ends without a path, BENCHMARKS.md.)
-    let scenario = nudge_tests::scenario("person-pacing").expect("scenario loads");
-    let config = nudge_sim::run::run_config(&scenario, 8, CandidatePolicy::Nearest);
-    let robot = SimRobot::new(&scenario, 8).expect("world builds");
-    let mut runner = nudge_executive::Runner::new(robot, NullObserver, config);
-    let report = runner.run();
-    let (robot, _) = runner.into_parts();
-    print_timeline(&report);
-    let tests = &report.knowledge.explanation.tests;
-    let slid = tests
-        .iter()
-        .position(|t| {
-            matches!(
-                t.finding,
-                nudge_executive::push_test::Finding::Ambiguous(
-                    nudge_executive::push_test::Ambiguity::IcpFailed
-                )
-            ) && !t.reached_limit
-                && t.hand_travel_mm > 30.0
-        })
-        .unwrap_or_else(|| panic!("the chair no longer slides unmeasured: {tests:?}"));
-    let chair = tests[slid].object;
-    assert!(
-        report
-            .timeline
-            .iter()
-            .any(|t| t.edge == Edge::MovedUnmeasured),
-        "the robot looked again after the chair slid unmeasured"
-    );
-    assert!(
-        tests[slid + 1..].iter().all(|t| t.object != chair
-            || !matches!(t.finding, nudge_executive::push_test::Finding::Ambiguous(_))),
-        "a retest of the chair was ambiguous again: {tests:?}"
-    );
-    for s in score(&report, &robot) {
-        assert!(s.correct, "person-pacing seed 8: {s:?}");
-    }
-    let effort = robot.world().effort();
-    assert_eq!((effort.people_contacts, effort.pushed_into_people), (0, 0));
 }
