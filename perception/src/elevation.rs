@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::cloud::ColourCloud;
 use crate::error::PerceptionError;
-use crate::hue::{ColourSum, HueSplit};
+use crate::hue::{ColourSum, HueSplit, HueSummary};
 
 /// Parameters of the elevation map.
 #[derive(Clone, Debug, PartialEq)]
@@ -145,6 +145,8 @@ pub struct ElevationMap {
     cells: Vec<Cell>,
     point_cell: Vec<u32>,
     hue: Option<HueSplit>,
+    /// Per cell, its colour's summary (empty without a hue split).
+    hues: Vec<HueSummary>,
 }
 
 impl ElevationMap {
@@ -237,6 +239,7 @@ impl ElevationMap {
                 cells: Vec::new(),
                 point_cell: vec![NO_CELL; cloud.len()],
                 hue: config.hue.clone(),
+                hues: Vec::new(),
             });
         }
         let cols = (c1 - c0 + 1) as usize;
@@ -298,6 +301,9 @@ impl ElevationMap {
             rows,
             floor_z,
             min_points: config.min_points_per_cell,
+            hues: config.hue.as_ref().map_or_else(Vec::new, |hue| {
+                cells.iter().map(|c| hue.summary(&c.colour)).collect()
+            }),
             index,
             cells,
             point_cell,
@@ -400,21 +406,29 @@ fn layer_for(cells: &[Cell], first: u32, rgb: [u8; 3], hue: Option<&HueSplit>) -
     let Some(hue) = hue else {
         return Some(first);
     };
-    let point = ColourSum::of(rgb);
     let (mut k, mut layers) = (first, 0);
-    let mut nearest = (f32::INFINITY, first);
     while k != NO_CELL {
-        let excess = hue.excess(&cells[k as usize].colour, &point);
-        if excess <= 0.0 {
+        if hue.fits(&cells[k as usize].colour, rgb) {
             return Some(k);
-        }
-        if excess < nearest.0 {
-            nearest = (excess, k);
         }
         layers += 1;
         k = cells[k as usize].next_layer;
     }
-    (layers >= hue.layers).then_some(nearest.1)
+    if layers < hue.layers {
+        return None;
+    }
+    // Every layer taken and none of its colour: the nearest (the rare corner of many colours).
+    let point = ColourSum::of(rgb);
+    let mut nearest = (f32::INFINITY, first);
+    let mut k = first;
+    while k != NO_CELL {
+        let excess = hue.excess(&cells[k as usize].colour, &point);
+        if excess < nearest.0 {
+            nearest = (excess, k);
+        }
+        k = cells[k as usize].next_layer;
+    }
+    Some(nearest.1)
 }
 
 /// Sets every cell's [`Cell::z_top`]: the median of its points' heights within `band` of its highest.

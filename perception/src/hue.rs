@@ -99,11 +99,70 @@ impl ColourSum {
     }
 }
 
+/// A sum's chromaticity with its noise and rounding terms worked out once, for the many
+/// comparisons labelling makes between neighbouring cells ([`HueSplit::same_summary`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HueSummary {
+    /// Mean chromaticity; `None` for black or empty.
+    chroma: Option<[f32; 3]>,
+    /// Squared noise of each chromaticity channel: `(√2 σ √n / T)²`.
+    variance: f32,
+    /// Rounding: one count per channel over the mean brightness, `n / T`.
+    rounding: f32,
+}
+
 impl HueSplit {
+    /// `sum`'s chromaticity, noise and rounding, for [`Self::same_summary`].
+    pub fn summary(&self, sum: &ColourSum) -> HueSummary {
+        let t = sum.total();
+        let n = sum.count.max(1) as f32;
+        let spread = std::f32::consts::SQRT_2 * self.noise as f32 * n.sqrt() / t;
+        HueSummary {
+            chroma: sum.chroma(),
+            variance: spread * spread,
+            rounding: n / t,
+        }
+    }
+
+    /// [`Self::same`] on two summaries.
+    #[inline]
+    pub fn same_summary(&self, a: &HueSummary, b: &HueSummary) -> bool {
+        let (Some(ca), Some(cb)) = (a.chroma, b.chroma) else {
+            return true;
+        };
+        let differ = (0..3)
+            .map(|k| (ca[k] - cb[k]).abs())
+            .fold(0.0_f32, f32::max);
+        let beyond = differ - a.rounding - b.rounding;
+        let k = self.sigmas as f32;
+        beyond <= 0.0 || beyond * beyond <= k * k * (a.variance + b.variance)
+    }
+
     /// Whether `a` and `b` are one surface's colour (see the module doc). Black or empty sums fit
     /// anything.
     pub fn same(&self, a: &ColourSum, b: &ColourSum) -> bool {
         self.excess(a, b) <= 0.0
+    }
+
+    /// Whether one return of colour `rgb` is `sum`'s colour: [`Self::same`] for the sum of that one
+    /// return, worked out without a division (every return of a look-around asks it). Both sides
+    /// of `|r / S − R / T| ≤ k √(2σ²/S² + 2σ²n/T²) + 1/S + n/T` times `S T`.
+    #[inline]
+    pub fn fits(&self, sum: &ColourSum, rgb: [u8; 3]) -> bool {
+        let c = rgb.map(f32::from);
+        let s = c[0] + c[1] + c[2];
+        let t = sum.total();
+        if s <= 0.0 || t <= 0.0 {
+            return true;
+        }
+        let n = sum.count.max(1) as f32;
+        let allowed = self.sigmas as f32
+            * std::f32::consts::SQRT_2
+            * self.noise as f32
+            * (t * t + n * s * s).sqrt()
+            + t
+            + n * s;
+        (0..3).all(|k| (c[k] * t - sum.rgb[k] * s).abs() <= allowed)
     }
 
     /// By how much the largest channel of the two chromaticities differs beyond what noise and
@@ -153,6 +212,32 @@ mod tests {
         assert!(!split.same(&red, &wall));
         assert!(!split.same(&ColourSum::of([120, 36, 24]), &wall));
         assert!(split.same(&ColourSum::of([0, 0, 0]), &wall));
+        for (a, b) in [
+            (red, shade),
+            (red, wall),
+            (shade, wall),
+            (wall, ColourSum::default()),
+        ] {
+            assert_eq!(
+                split.same_summary(&split.summary(&a), &split.summary(&b)),
+                split.same(&a, &b),
+                "{a:?} {b:?}"
+            );
+        }
+        // One return against a sum: the division-free test agrees with the general one.
+        for (sum, rgb) in [
+            (red, [201, 61, 39]),
+            (red, [120, 36, 24]),
+            (wall, [120, 36, 24]),
+            (shade, [225, 222, 210]),
+            (wall, [0, 0, 0]),
+        ] {
+            assert_eq!(
+                split.fits(&sum, rgb),
+                split.same(&sum, &ColourSum::of(rgb)),
+                "{sum:?} {rgb:?}"
+            );
+        }
     }
 
     #[test]
