@@ -380,7 +380,7 @@ pub fn transition(
         (State::SelectCandidate, Event::CandidatesRanked { ranked, set_aside }) => {
             k.explanation.set_aside = set_aside
                 .iter()
-                .filter_map(|s| why_set_aside(s, &k).map(|why| (s.id, why)))
+                .map(|s| (s.id, why_set_aside(s, &k)))
                 .collect();
             pick(ranked, k, config)
         }
@@ -626,7 +626,7 @@ fn select_candidate(k: Knowledge, config: &ExecutiveConfig, edge: Edge) -> Step 
 /// Why an obstacle was set aside, for the explanation: its size, or that it was taken for room
 /// structure, and for one a push test found movable, that its outline now takes in what it was
 /// pushed against.
-fn why_set_aside(s: &SetAside, k: &Knowledge) -> Option<String> {
+fn why_set_aside(s: &SetAside, k: &Knowledge) -> String {
     let movable = k
         .explanation
         .verdicts
@@ -640,11 +640,11 @@ fn why_set_aside(s: &SetAside, k: &Knowledge) -> Option<String> {
             "taken for room structure: at the edge of all that was seen, its top out of view".into()
         }
     };
-    Some(if movable {
+    if movable {
         format!("{why}: found movable, its outline now takes in what it was pushed against")
     } else {
         why
-    })
+    }
 }
 
 fn pick(list: &[Candidate], k: Knowledge, config: &ExecutiveConfig) -> Step {

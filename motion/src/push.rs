@@ -133,9 +133,13 @@ impl PushConfig {
     }
 }
 
-/// The longest of the short pushes (m): one to a few strokes, tried every 0.1 m (see
+/// The longest of the short pushes (m): one to a few strokes, tried every [`SHORT_PUSH_STEP`] (see
 /// [`PushConfig::distances_up_to`]); a push test is planned among these.
 pub const SHORT_PUSHES: f64 = 1.2;
+
+/// The step between the short pushes tried (m): a few centimetres decide whether the way opens
+/// beside an object, and a stroke's error is about that.
+pub const SHORT_PUSH_STEP: f64 = 0.1;
 
 impl PushConfig {
     /// Push distances to try, shortest first, up to `longest` (m): every 0.1 m from 0.3 m to 1.2 m
@@ -144,7 +148,7 @@ impl PushConfig {
     /// object's end position is known to a stroke's error anyway). A caller sets `longest` from its
     /// camera's range: floor farther than that cannot have been seen from where the push is planned.
     pub fn distances_up_to(longest: f64) -> Vec<f64> {
-        let short = (3..=12).map(|k| f64::from(k) * 0.1);
+        let short = (3..=12).map(|k| f64::from(k) * SHORT_PUSH_STEP);
         let long = (1..)
             .map(|k| SHORT_PUSHES + f64::from(k) * 0.2)
             .take_while(move |d| *d <= longest + 1e-9);

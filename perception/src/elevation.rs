@@ -366,12 +366,13 @@ impl ElevationMap {
     /// Whether touched cells `a` and `b` hold one surface's colour: always, when the map keeps no
     /// colours apart.
     pub fn same_colour(&self, a: u32, b: u32) -> bool {
-        match &self.hue {
-            Some(hue) => hue.same(
-                &self.cells[a as usize].colour,
-                &self.cells[b as usize].colour,
-            ),
-            None => true,
+        match (
+            &self.hue,
+            self.hues.get(a as usize),
+            self.hues.get(b as usize),
+        ) {
+            (Some(hue), Some(ha), Some(hb)) => hue.same_summary(ha, hb),
+            _ => true,
         }
     }
 

@@ -70,14 +70,6 @@ impl ColourSum {
         self.count += 1;
     }
 
-    /// Adds another sum.
-    pub fn add_sum(&mut self, other: &ColourSum) {
-        for (s, v) in self.rgb.iter_mut().zip(other.rgb) {
-            *s += v;
-        }
-        self.count += other.count;
-    }
-
     /// The sum of all channels.
     fn total(&self) -> f32 {
         self.rgb[0] + self.rgb[1] + self.rgb[2]

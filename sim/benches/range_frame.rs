@@ -167,30 +167,22 @@ fn bench_world_frame(c: &mut Criterion) {
         .advance(0.01)
         .expect("one step settles the broad phase");
     let sensor = ColourRangeSensor::new(ColourRangeConfig::default());
-    let surfaces = world.surfaces();
-    let lookup = |h: ColliderHandle| surfaces.get(&h).copied();
-    let scene = SensorScene {
-        bodies: world.bodies(),
-        colliders: world.colliders(),
-        broad_phase: &world.physics().broad_phase,
-        surface: &lookup,
-        texture_seed: world.seed(),
-        exclude: Some(world.humanoid().parts().body),
-    };
     let pose = world.humanoid().sensor_pose()
         * UnitQuaternion::from_euler_angles(0.0, 20f64.to_radians(), 0.0);
-    let valid = sensor.capture(&scene, &pose, 0.0, 0).valid_count();
-    eprintln!("range_frame_world: {valid} pixels return");
-    report_cpu("range_frame_world", |seed| {
-        black_box(sensor.capture(&scene, &pose, 0.0, seed));
-    });
+    world.in_sensor_scene(|scene| {
+        let valid = sensor.capture(scene, &pose, 0.0, 0).valid_count();
+        eprintln!("range_frame_world: {valid} pixels return");
+        report_cpu("range_frame_world", |seed| {
+            black_box(sensor.capture(scene, &pose, 0.0, seed));
+        });
 
-    let mut seed = 0u64;
-    c.bench_function("range_frame_world_176x144", |b| {
-        b.iter(|| {
-            seed += 1;
-            black_box(sensor.capture(&scene, black_box(&pose), 0.0, seed))
-        })
+        let mut seed = 0u64;
+        c.bench_function("range_frame_world_176x144", |b| {
+            b.iter(|| {
+                seed += 1;
+                black_box(sensor.capture(scene, black_box(&pose), 0.0, seed))
+            })
+        });
     });
 }
 

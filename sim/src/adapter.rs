@@ -9,7 +9,7 @@ use nudge_executive::robot::{
 use nudge_perception::ColourCloud;
 
 use crate::scenario::Scenario;
-use crate::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor, SensorScene};
+use crate::sensors::colour_range::{ColourRangeConfig, ColourRangeSensor};
 use crate::world::{World, WorldError};
 use nudge_executive::robot::controller::Walk;
 
@@ -67,24 +67,8 @@ impl SimRobot {
     /// pixel.
     pub fn owners(&self) -> Vec<Option<crate::surface::Owner>> {
         let pose = self.world.humanoid().sensor_pose();
-        self.in_sensor_scene(|scene| self.range.owners(scene, &pose))
-    }
-
-    /// Calls `f` with the scene the head's camera sees: the world's colliders and surfaces, the
-    /// robot's bounding body left out.
-    fn in_sensor_scene<T>(&self, f: impl FnOnce(&SensorScene<'_>) -> T) -> T {
-        let world = &self.world;
-        let surfaces = world.surfaces();
-        let lookup = move |h| surfaces.get(&h).copied();
-        let scene = SensorScene {
-            bodies: world.bodies(),
-            colliders: world.colliders(),
-            broad_phase: &world.physics().broad_phase,
-            surface: &lookup,
-            texture_seed: world.seed(),
-            exclude: Some(world.humanoid().parts().body),
-        };
-        f(&scene)
+        self.world
+            .in_sensor_scene(|scene| self.range.owners(scene, &pose))
     }
 
     fn stamp<T>(&self, value: T) -> Stamped<T> {
@@ -231,7 +215,9 @@ impl RangeCamera for SimRobot {
         let world = &self.world;
         let pose = world.humanoid().sensor_pose();
         let (stamp, seed) = (world.time(), frame_seed(world.seed(), self.frames));
-        let cloud = self.in_sensor_scene(|scene| self.range.capture(scene, &pose, stamp, seed));
+        let cloud = self
+            .world
+            .in_sensor_scene(|scene| self.range.capture(scene, &pose, stamp, seed));
         self.frames += 1;
         Ok(cloud)
     }

@@ -209,7 +209,7 @@ pub fn run_all(
 }
 
 /// A rayon pool whose only thread is the caller's own, so `install` runs on it without a hand-off.
-fn one_thread_pool() -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
+pub(super) fn one_thread_pool() -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .use_current_thread()

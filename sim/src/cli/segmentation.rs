@@ -46,7 +46,7 @@ pub(super) fn segmentation(args: SegmentationArgs) -> anyhow::Result<ExitCode> {
         for _ in 0..threads.min(jobs.len()) {
             scope.spawn(|| {
                 // One look per thread at a time, its rays on this thread alone (as `nudge batch`).
-                let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+                let pool = super::pool::one_thread_pool();
                 loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
                     let Some((source, seed)) = jobs.get(k) else {

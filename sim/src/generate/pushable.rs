@@ -13,9 +13,9 @@
 //! - **a sweep that fits** (clearing pushes): the object's footprint translated along the push from
 //!   where it stands to where it ends never goes into another object or a wall. Touching is allowed:
 //!   a crate flush against a wall slides along it;
-//! - **the way it opens**: each clearing push's distance is the shortest, in steps of the planner's
-//!   shortest push step, after which a way joins start and goal with that object moved and the other
-//!   objects to be cleared taken away; with every clearing push made, every object bolted where it
+//! - **the way it opens**: each clearing push's distance is the shortest, in the planner's
+//!   short-push steps up to the longest push it plans, after which a way joins start and goal with
+//!   that object moved and the other objects to be cleared taken away; with every clearing push made, every object bolted where it
 //!   ends, a way must exist (where it does not, every clearing push goes one step farther while
 //!   its sweep fits).
 //!
@@ -62,8 +62,6 @@ pub struct PushMade {
 
 /// Touching allowed between a sweep and what it passes (m): numerical slack only.
 const TOUCH: f64 = 1.0e-3;
-/// Longest clearing push looked at (m): farther than any generated room needs to clear an opening.
-const LONGEST: f64 = 3.0;
 
 /// Checks every push of `needs` on `scenario`'s true world, in order. `Ok(None)` when one cannot be
 /// made (no stand pose, a sweep that runs into something, or a way that does not open).
@@ -82,7 +80,9 @@ pub fn check_pushes(
         o.fixed = true;
     }
     let clears: Vec<&NeededPush> = needs.iter().filter(|n| n.kind == PushKind::Clear).collect();
-    let step = planning.distances.first().copied().unwrap_or(0.1).min(0.1);
+    // The planner's short-push step, up to the longest push it plans (as far as the camera sees).
+    let step = nudge_motion::push::SHORT_PUSH_STEP;
+    let longest = planning.distances.last().copied().unwrap_or(0.0);
     // Each clearing push on its own: its shortest distance that opens the way, the others taken
     // away.
     let mut distances = Vec::with_capacity(clears.len());
@@ -94,7 +94,7 @@ pub fn check_pushes(
             .collect();
         let mut found = None;
         let mut d = step;
-        while d <= LONGEST + 1e-9 {
+        while d <= longest + 1e-9 {
             if !sweep_fits(&bolted, push, d)? {
                 break;
             }
@@ -125,7 +125,7 @@ pub fn check_pushes(
             if !open {
                 for (push, d) in clears.iter().zip(distances.iter_mut()) {
                     *d += step;
-                    if *d > LONGEST + 1e-9 || !sweep_fits(&bolted, push, *d)? {
+                    if *d > longest + 1e-9 || !sweep_fits(&bolted, push, *d)? {
                         return Ok(None);
                     }
                 }

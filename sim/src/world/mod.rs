@@ -284,6 +284,25 @@ impl World {
         &mut self.physics
     }
 
+    /// Calls `f` with the scene the head's camera sees: every collider with its surface, the
+    /// robot's bounding body left out (the sensor rides on it), textures seeded by the world.
+    pub fn in_sensor_scene<T>(
+        &self,
+        f: impl FnOnce(&crate::sensors::colour_range::SensorScene<'_>) -> T,
+    ) -> T {
+        let surfaces = self.surfaces();
+        let lookup = move |h| surfaces.get(&h).copied();
+        let scene = crate::sensors::colour_range::SensorScene {
+            bodies: self.bodies(),
+            colliders: self.colliders(),
+            broad_phase: &self.physics().broad_phase,
+            surface: &lookup,
+            texture_seed: self.seed(),
+            exclude: Some(self.humanoid().parts().body),
+        };
+        f(&scene)
+    }
+
     /// Appearance and owner of every collider.
     pub fn surfaces(&self) -> &HashMap<ColliderHandle, Surface> {
         &self.surfaces

@@ -335,24 +335,12 @@ fn finish(
 
 /// A light box `sx` deep (along x) and `sy` across, 0.5–0.9 m tall, sliding at 6–15 N.
 fn light_box(rng: &mut ChaCha8Rng, name: &str, sx: (f64, f64), sy: (f64, f64)) -> ObjectSpec {
-    let spec = ObjectSpec {
-        name: name.to_string(),
-        kind: ObjectKind::Box,
-        position: [0.0, 0.0],
-        yaw: 0.0,
-        size: vec![
-            cm(rng.random_range(sx.0..sx.1)),
-            cm(rng.random_range(sy.0..sy.1)),
-            cm(rng.random_range(0.5..0.9)),
-        ],
-        elevation: 0.0,
-        mass: cm(rng.random_range(3.0..6.0)),
-        friction: 0.6,
-        fixed: false,
-        colour: colour(rng),
-        texture: Texture::Noise,
-    };
-    with_slide(spec, rng.random_range(6.0..15.0))
+    let size = vec![
+        cm(rng.random_range(sx.0..sx.1)),
+        cm(rng.random_range(sy.0..sy.1)),
+        cm(rng.random_range(0.5..0.9)),
+    ];
+    light_of(rng, name, ObjectKind::Box, size, 0.0)
 }
 
 /// A light box, or a chair turned square to the walls.
@@ -360,12 +348,24 @@ fn light_thing(rng: &mut ChaCha8Rng, name: &str) -> ObjectSpec {
     if rng.random_bool(0.5) {
         return light_box(rng, name, (0.4, 0.6), (0.45, 0.65));
     }
+    let yaw = f64::from(rng.random_range(0..4_u8)) * 90.0;
+    light_of(rng, name, ObjectKind::Chair, vec![0.5, 0.5, 0.85], yaw)
+}
+
+/// A light thing of `kind`, `size` and `yaw`: 3–6 kg, textured, sliding at 6–15 N.
+fn light_of(
+    rng: &mut ChaCha8Rng,
+    name: &str,
+    kind: ObjectKind,
+    size: Vec<f64>,
+    yaw: f64,
+) -> ObjectSpec {
     let spec = ObjectSpec {
         name: name.to_string(),
-        kind: ObjectKind::Chair,
+        kind,
         position: [0.0, 0.0],
-        yaw: f64::from(rng.random_range(0..4_u8)) * 90.0,
-        size: vec![0.5, 0.5, 0.85],
+        yaw,
+        size,
         elevation: 0.0,
         mass: cm(rng.random_range(3.0..6.0)),
         friction: 0.6,

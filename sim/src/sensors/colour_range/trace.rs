@@ -45,7 +45,32 @@ pub(super) trait RowCaster<'c> {
     fn first_hit(&mut self, col: usize, ray: &Ray, max_range: Real) -> Option<Hit>;
 }
 
+/// One image row's rays: their directions in the sensor frame, the frame's rotation into the map,
+/// and the range limits a return must lie within.
+struct RowRays<'d> {
+    /// Index of the row's first pixel in the image.
+    first: usize,
+    dirs: &'d [Vector],
+    rotation: Matrix,
+    min_range: Real,
+    max_range: Real,
+}
+
 impl Frame<'_> {
+    /// Begins `row` on `caster` and gives its rays.
+    fn row_rays<'c>(&self, caster: &mut impl RowCaster<'c>, row: usize) -> RowRays<'_> {
+        let camera = &self.sensor.config.camera;
+        let first = row * camera.width;
+        caster.begin_row(row);
+        RowRays {
+            first,
+            dirs: &self.sensor.directions[first..first + camera.width],
+            rotation: Matrix::from_quat(self.pose.rotation),
+            min_range: camera.min_range as Real,
+            max_range: camera.max_range as Real,
+        }
+    }
+
     /// Traces every pixel of `row` and writes its return (or NaN) into `out`.
     pub(super) fn trace_row<'c>(
         &self,
@@ -54,25 +79,18 @@ impl Frame<'_> {
         out: RowOut<'_>,
     ) {
         let config = &self.sensor.config;
-        let width = config.camera.width;
-        let min_range = config.camera.min_range as Real;
-        let max_range = config.camera.max_range as Real;
-        let first = row * width;
-        let dirs = &self.sensor.directions[first..first + width];
-        caster.begin_row(row);
-        let rotation = Matrix::from_quat(self.pose.rotation);
+        let rays = self.row_rays(caster, row);
         let counts = config.camera.range_counts();
 
-        for (col, dir) in dirs.iter().enumerate() {
-            let world_dir = rotation * *dir;
+        for (col, dir) in rays.dirs.iter().enumerate() {
+            let world_dir = rays.rotation * *dir;
             let ray = Ray::new(self.pose.translation, world_dir);
-            let Some(hit) = self.kept_hit(caster, col, &ray, min_range, max_range) else {
+            let Some((hit, cos_incidence)) = self.kept_hit(caster, col, &ray, &rays) else {
                 continue;
             };
             let toi = hit.toi;
-            let cos_incidence = hit.normal.dot(world_dir).abs();
 
-            let mut noise = RayRng::new(self.frame_seed, first + col);
+            let mut noise = RayRng::new(self.frame_seed, rays.first + col);
             let true_range = f64::from(toi);
             let sigma = config.range_sigma(true_range, f64::from(cos_incidence));
             let range = counts.reported(true_range + sigma * gaussian(&mut noise));
@@ -99,25 +117,26 @@ impl Frame<'_> {
         }
     }
 
-    /// The surface `ray` (column `col` of the row begun) returns, if the sensor keeps it: nearer than
-    /// the range limit and farther than the least range, not at grazing incidence, not the robot's
-    /// own part when self-filtered. Noise is added after: it never changes which surface returns.
+    /// The surface `ray` (column `col` of the row begun) returns, with the cosine of its incidence,
+    /// if the sensor keeps it: within the row's range limits, not at grazing incidence, not the
+    /// robot's own part when self-filtered. Noise is added after: it never changes which surface
+    /// returns.
     fn kept_hit<'c>(
         &self,
         caster: &mut impl RowCaster<'c>,
         col: usize,
         ray: &Ray,
-        min_range: Real,
-        max_range: Real,
-    ) -> Option<Hit> {
+        rays: &RowRays<'_>,
+    ) -> Option<(Hit, Real)> {
         let config = &self.sensor.config;
-        let hit = caster.first_hit(col, ray, max_range)?;
+        let hit = caster.first_hit(col, ray, rays.max_range)?;
         let cos_incidence = hit.normal.dot(ray.dir).abs();
         let own_part =
             config.self_filter && hit.surface.is_some_and(|s| matches!(s.owner, Owner::Robot));
-        let kept =
-            hit.toi >= min_range && cos_incidence >= self.sensor.min_cos_incidence && !own_part;
-        kept.then_some(hit)
+        let kept = hit.toi >= rays.min_range
+            && cos_incidence >= self.sensor.min_cos_incidence
+            && !own_part;
+        kept.then_some((hit, cos_incidence))
     }
 
     /// Who owns the surface each pixel of `row` returns (`None`: no return, or a surface without
@@ -128,19 +147,12 @@ impl Frame<'_> {
         row: usize,
         out: &mut [Option<Owner>],
     ) {
-        let config = &self.sensor.config;
-        let width = config.camera.width;
-        let min_range = config.camera.min_range as Real;
-        let max_range = config.camera.max_range as Real;
-        let first = row * width;
-        let dirs = &self.sensor.directions[first..first + width];
-        caster.begin_row(row);
-        let rotation = Matrix::from_quat(self.pose.rotation);
-        for (col, dir) in dirs.iter().enumerate() {
-            let ray = Ray::new(self.pose.translation, rotation * *dir);
+        let rays = self.row_rays(caster, row);
+        for (col, dir) in rays.dirs.iter().enumerate() {
+            let ray = Ray::new(self.pose.translation, rays.rotation * *dir);
             out[col] = self
-                .kept_hit(caster, col, &ray, min_range, max_range)
-                .and_then(|hit| hit.surface.map(|s| s.owner));
+                .kept_hit(caster, col, &ray, &rays)
+                .and_then(|(hit, _)| hit.surface.map(|s| s.owner));
         }
     }
 }
