@@ -491,6 +491,9 @@ pub fn transition(
         ) => conclude_push_test(*target, intent, *attempt, evidence, k, config),
         (State::ClearPath { target, .. }, Event::Cleared { .. }) => {
             *k.clears.entry(*target).or_default() += 1;
+            // What was pushed may have stood in the way of pushes ruled out before (a box beside
+            // it, whose stand pose it filled): those are asked about afresh after the look.
+            k.explanation.unpushable.clear();
             step(
                 State::LookAround,
                 k,
@@ -500,8 +503,9 @@ pub fn transition(
         }
         (State::ClearPath { target, .. }, Event::OffLine { .. }) => {
             // Counted as a clear: an object that goes off line push after push is given up like one
-            // cleared too often.
+            // cleared too often. It moved: pushes ruled out before are asked about afresh.
             *k.clears.entry(*target).or_default() += 1;
+            k.explanation.unpushable.clear();
             step(
                 State::LookAround,
                 k,

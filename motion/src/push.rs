@@ -81,6 +81,12 @@ pub struct PushConfig {
     /// an object that turns as it slides (pushed off its centre, or dragging a corner) ends short of
     /// the hand's travel, and a push planned to the centimetre would leave it in the way.
     pub distance_margin: f64,
+    /// Whether a push that opens no way by itself is chosen longest first (else shortest first, as
+    /// a push test's stroke is). A clearing push that opens nothing alone moves an object out of
+    /// the way of what must move next: the box beside it in a doorway, whose own push would slide
+    /// along it, or whose stand pose it would fill. Pushed only as far as a short stroke, it stays
+    /// beside the next one's sweep. Off by default; the executive turns it on for clearing pushes.
+    pub far_when_shut: bool,
     /// Faces whose normals differ by less than this are one push direction (rad).
     pub merge_angle: f64,
     /// Side of the cells a footprint's vertices lie on (m): perception's elevation cell. An edge of
@@ -124,6 +130,7 @@ impl PushConfig {
             test_below_tipping: true,
             sweep_clearance: 0.05,
             distance_margin: 0.2,
+            far_when_shut: false,
             merge_angle: 10f64.to_radians(),
             footprint_cell: nudge_perception::ElevationConfig::default().cell_size,
             planner: RrtConnect::default(),
@@ -398,14 +405,22 @@ pub fn plan_push_among(
             PushError::Blocked(id, runs_into)
         });
     }
-    // Openers first, then the steps that leave the way to the others; shortest push first; the
+    // Openers first, then the steps that leave the way to the others; shortest push first (longest
+    // first for a step that opens nothing, with `far_when_shut`); then
+    // the push whose line passes nearest the footprint's centre, in whole footprint cells; the
     // stable sort keeps face order for ties.
+    let off_centre = off_centre_cells(prism, config.footprint_cell);
     candidates.sort_by(|a, b| {
         b.path_after
             .is_some()
             .cmp(&a.path_after.is_some())
             .then(b.leaves_way.cmp(&a.leaves_way))
-            .then(a.distance.total_cmp(&b.distance))
+            .then(if config.far_when_shut && a.path_after.is_none() {
+                b.distance.total_cmp(&a.distance)
+            } else {
+                a.distance.total_cmp(&b.distance)
+            })
+            .then(off_centre(&a.stance).cmp(&off_centre(&b.stance)))
     });
     let mut own = ChaCha8Rng::seed_from_u64(seed ^ 0xA5A5_A5A5);
     let first = reachable(candidates, validity, robot, config, &mut own);
@@ -435,6 +450,23 @@ pub fn plan_push_among(
             PushError::Unreachable(id)
         },
     )
+}
+
+/// How far (in whole cells of `cell`) a stance's push line passes from the footprint's centre of
+/// area, where an object of even weight has its centre of friction. A push through it slides the
+/// object without turning it (Mason 1986: the turn grows with the line's offset from that
+/// centre), so the object goes where the plan sweeps it, and a test's colour ICP measures a
+/// plain slide rather than a slide and a turn on a face seen half edge-on. Counted in cells: a
+/// hull's centre is no better known than its cells, and closer lines keep their faces' order.
+fn off_centre_cells(prism: &Prism, cell: f64) -> impl Fn(&Stance) -> u64 {
+    let centre = prism.centroid();
+    let cell = cell.max(1e-3);
+    move |stance| {
+        centre.map_or(0, |c| {
+            let offset = stance.direction.perp(&(c - stance.contact)).abs();
+            (offset / cell).round() as u64
+        })
+    }
 }
 
 /// The first of `candidates` whose stand pose the robot can reach from `robot`, with the way there.
@@ -1043,7 +1075,8 @@ fn sweep_on_seen_floor(object: &Obstacle, swept: &Obstacle, floor: &FloorCheck<'
             floor.seen.seen(&p)
                 || !swept.contains(&p)
                 || object.contains(&p)
-                || object.distance_to_point(&p) <= floor.own_shadow
+                || (object.distance_to_point(&p) <= floor.own_shadow
+                    && object.distance_to_segment(&floor.eye, &p) <= 1e-6)
         })
     })
 }

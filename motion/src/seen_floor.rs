@@ -31,8 +31,12 @@ pub struct FloorCheck<'a> {
     /// What has been seen.
     pub seen: &'a dyn SeenFloor,
     /// How far behind the pushed object's footprint its own shadow reaches (m): unseen floor within
-    /// this distance of the footprint may be swept (see the module's doc).
+    /// this distance of the footprint, and behind it, may be swept (see the module's doc).
     pub own_shadow: f64,
+    /// Where the shadow was cast from (map frame): the place of the look it was measured from.
+    /// Floor counts as the object's own shadow only where the line of sight from here to it
+    /// crosses the object; floor beside it, or hidden by a neighbour it touches, does not.
+    pub eye: Point2<f64>,
 }
 
 impl FloorCheck<'_> {
@@ -81,6 +85,7 @@ mod tests {
         let check = FloorCheck {
             seen: &HalfPlane,
             own_shadow: 0.0,
+            eye: Point2::origin(),
         };
         assert!(check.stands(&Point2::new(0.5, 0.0), 0.35));
         assert!(!check.stands(&Point2::new(0.8, 0.0), 0.35));

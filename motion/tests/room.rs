@@ -253,11 +253,11 @@ impl nudge_motion::SeenFloor for SeenBut {
 
 #[test]
 fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
-    // Invariant: with the floor behind chair 1 unseen, its push is planned when that floor lies within the chair's own shadow, refused with UnseenFloor when the shadow is shorter than the sweep, and refused the same way when the robot would stand on unseen floor; with floor unseen only farther on, a short push that does not open the way is planned and says a longer one was refused for unseen floor; with everything seen it is the plan made without a floor check.
+    // Invariant: with the floor behind chair 1 unseen, its push is planned when that floor lies within the chair's own shadow (behind it from the eye), refused with UnseenFloor when the shadow is shorter than the sweep, and refused the same way when the robot would stand on unseen floor; with floor unseen only farther on, a short push that does not open the way is planned and says a longer one was refused for unseen floor; with everything seen it is the plan made without a floor check.
     let (v, p) = common::room();
     let config = PushConfig::default();
     let chair = prism(CHAIR_1);
-    let plan_with = |seen: &dyn nudge_motion::SeenFloor, own_shadow: f64| {
+    let plan_seen_from = |seen: &dyn nudge_motion::SeenFloor, own_shadow: f64, eye| {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         nudge_motion::plan_push_over(
             &chair,
@@ -265,9 +265,18 @@ fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
             &p.start(),
             p.goal(),
             &config,
-            Some(nudge_motion::FloorCheck { seen, own_shadow }),
+            Some(nudge_motion::FloorCheck {
+                seen,
+                own_shadow,
+                eye,
+            }),
             &mut rng,
         )
+    };
+    // Looked at from straight in front, where the sweep behind it is all in its shadow.
+    let in_front = nalgebra::Point2::new(1.0, 0.85);
+    let plan_with = |seen: &dyn nudge_motion::SeenFloor, own_shadow: f64| {
+        plan_seen_from(seen, own_shadow, in_front)
     };
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let unchecked = plan_push(&chair, &v, &p.start(), p.goal(), &config, &mut rng).expect("a push");
@@ -279,6 +288,11 @@ fn a_push_keeps_to_seen_floor_or_the_objects_own_shadow() {
     assert!(shadowed.opens_path);
     assert_eq!(
         plan_with(&behind, 0.05),
+        Err(nudge_motion::PushError::UnseenFloor(CHAIR_1))
+    );
+    // Seen from beyond the chair, that floor lies before it, not behind it: not its own shadow.
+    assert_eq!(
+        plan_seen_from(&behind, 2.0, nalgebra::Point2::new(4.6, 0.85)),
         Err(nudge_motion::PushError::UnseenFloor(CHAIR_1))
     );
     // The floor unseen only from 0.45 m beyond the chair's far face: the short pushes are planned,

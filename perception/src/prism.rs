@@ -7,6 +7,7 @@
 use nalgebra::{Isometry3, Point2, Point3};
 
 use crate::cloud::ColourCloud;
+use crate::hue::ColourSum;
 
 /// An object's identity, stable across look-arounds (matched by footprint overlap).
 #[derive(
@@ -61,6 +62,16 @@ impl Prism {
     /// Height of the prism's top above the floor (m); the same as `z_max`.
     pub fn top(&self) -> f64 {
         self.z_max
+    }
+
+    /// The colours of the prism's points, summed: what its surface's chromaticity is
+    /// ([`crate::hue`]).
+    pub fn colour(&self) -> ColourSum {
+        let mut sum = ColourSum::default();
+        for (_, _, c) in self.points.iter_valid() {
+            sum.add(c);
+        }
+        sum
     }
 
     /// Intersection over union of the two footprints (0 when either is degenerate).

@@ -57,6 +57,7 @@ impl WorldModel {
                         continue;
                     };
                     if (judged(a) && judged(b))
+                        || other_colours(a, b, config)
                         || self.taller_than_moved(a, b)
                         || self.taller_than_moved(b, a)
                         || !oa.heights_overlap(ob)
@@ -130,6 +131,7 @@ impl WorldModel {
             let face = self.prisms.iter().enumerate().position(|(j, f)| {
                 j != i
                     && self.untouched(f.id)
+                    && !other_colours(x, f, config)
                     && nudge_motion::Obstacle::from_prism(f)
                         .is_ok_and(|of| ox.distance_to_obstacle(&of) <= gap)
                     && one_object_l(x, f, robot, config)
@@ -342,6 +344,22 @@ const MERGE_GAP_FALLBACK: f64 = 0.05;
 /// than the slivers a hull adds along two overlapping views of one straight face.
 const MERGE_BLOCKING_FREE_AREA: f64 = 0.02;
 
+/// Whether `a` and `b` are two things of two colours standing side by side: their points' mean
+/// chromaticities differ by more than the camera's colour noise and rounding explain
+/// ([`nudge_perception::hue`]), and neither stands over most of the other. Such pieces are two
+/// things that touch, never one object seen in parts: a surface's texture changes its brightness,
+/// not its chromaticity. Parts of one thing in two colours stand one over the other (a person's
+/// clothes, a cushion on a seat): their footprints share more than half the smaller one, where two
+/// things side by side share at most the cell-wide strip each hull takes of the other, under half
+/// of anything wider than two cells. Always false where perception keeps no colours.
+pub(super) fn other_colours(a: &Prism, b: &Prism, config: &RunConfig) -> bool {
+    let Some(hue) = config.perception.elevation.hue.as_ref() else {
+        return false;
+    };
+    let shared = nudge_perception::prism::convex_intersection_area(&a.footprint, &b.footprint);
+    shared <= 0.5 * a.area().min(b.area()) && !hue.same(&a.colour(), &b.colour())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -389,6 +407,45 @@ mod tests {
             &config,
         );
         assert_eq!(corner.prisms.len(), 2, "{:?}", corner.prisms);
+    }
+
+    /// `prism` with every point of colour `rgb`.
+    fn recoloured(prism: Prism, rgb: [u8; 3]) -> Prism {
+        let mut points = nudge_perception::ColourCloud::empty(
+            prism.points.frame(),
+            *prism.points.sensor_pose(),
+            prism.points.stamp(),
+        );
+        for (_, p, _) in prism.points.iter_valid() {
+            points.push(p, rgb);
+        }
+        Prism { points, ..prism }
+    }
+
+    #[test]
+    fn two_touching_things_of_two_colours_stay_two_obstacles() {
+        // Invariant: two untested boxes 2 cm apart with no floor seen between them, which merge as one object's pieces when they are of one colour, stay two obstacles when their colours differ by more than the camera's noise explains (two greens a touching-family doorway held abreast).
+        let config = config_to(Point2::new(13.3, 1.8));
+        let robot = Point2::new(6.0, 1.8);
+        let elsewhere = floor(1.0, 1.0, 1.1, 1.1);
+        let a = solid(7, (8.1, 1.2, 8.6, 1.75), 0.5);
+        let b = solid(8, (8.1, 1.77, 8.6, 2.3), 0.5);
+        let look = |a: Prism, b: Prism| {
+            let mut world = WorldModel::default();
+            world.remember(vec![a, b], &elsewhere, &robot, &config);
+            world.prisms.len()
+        };
+        assert_eq!(
+            look(
+                recoloured(a.clone(), [61, 204, 72]),
+                recoloured(b.clone(), [61, 204, 72])
+            ),
+            1
+        );
+        assert_eq!(
+            look(recoloured(a, [61, 204, 72]), recoloured(b, [61, 206, 119])),
+            2
+        );
     }
 
     #[test]

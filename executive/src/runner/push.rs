@@ -59,7 +59,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             }
         };
         let eye = self.config.model.head.height;
-        let own_shadow = self.world.own_shadow(&prism, eye);
+        let (own_shadow, shadow_eye) = self.world.own_shadow(&prism, eye);
         // Full clearance first; where no stand pose is reachable with it (perception's hulls a few
         // centimetres generous in a tight room), half of it, then none: the guarded walk stops short
         // of contact anyway.
@@ -77,7 +77,10 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 ..self.config.push.clone()
             }
         } else {
-            self.config.push.clone()
+            PushConfig {
+                far_when_shut: true,
+                ..self.config.push.clone()
+            }
         };
         // An object that tipped under the hand is pushed at no more than half its height from then
         // on, as its retest was (see `Ambiguity::Tipped`).
@@ -113,6 +116,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .map(|seen| FloorCheck {
                     seen: seen as &dyn SeenFloor,
                     own_shadow,
+                    eye: shadow_eye,
                 });
             let attempt = plan_push_among(
                 &prism,

@@ -275,6 +275,7 @@ impl WorldModel {
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
         let mut absorbed = Vec::new();
         let mut joins = Vec::new();
+        let other_colours = |a: &Prism, b: &Prism| super::fragments::other_colours(a, b, config);
         let corner = |a: &Prism, b: &Prism| {
             super::fragments::structure_corner(a, b, config.max_candidate_extent)
         };
@@ -285,6 +286,10 @@ impl WorldModel {
                 if corner(&merged, old) {
                     // Two runs of structure at a corner (a wall and a partition), even one found
                     // static: their hull would be a triangle of floor.
+                    continue;
+                }
+                if other_colours(&merged, old) {
+                    // Two things of two colours that touch, whatever floor shows between them.
                     continue;
                 }
                 if self.pushed.contains(&old.id) && !settled(old) {
@@ -535,15 +540,22 @@ impl WorldModel {
     }
 
     /// How far behind `prism` its own shadow reaches on the floor (m), as seen from the look nearest
-    /// it: the floor it hides from an eye at `eye_height` (see [`nudge_motion::shadow_length`]).
-    pub fn own_shadow(&self, prism: &Prism, eye_height: f64) -> f64 {
+    /// it, and that look's place: the floor it hides from an eye at `eye_height` (see
+    /// [`nudge_motion::shadow_length`]). No shadow, from the object's own place, before any look.
+    pub fn own_shadow(&self, prism: &Prism, eye_height: f64) -> (f64, Point2<f64>) {
         self.looks
             .iter()
-            .map(|look| far_side(prism, look))
-            .min_by(f64::total_cmp)
-            .map_or(0.0, |d| {
-                nudge_motion::shadow_length(d, prism.z_max, eye_height)
-            })
+            .map(|look| (far_side(prism, look), *look))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map_or_else(
+                || (0.0, prism.centroid().unwrap_or_else(Point2::origin)),
+                |(d, look)| {
+                    (
+                        nudge_motion::shadow_length(d, prism.z_max, eye_height),
+                        look,
+                    )
+                },
+            )
     }
 
     /// The problem from `robot` to the goal.
