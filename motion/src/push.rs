@@ -406,9 +406,9 @@ pub fn plan_push_among(
         });
     }
     // Openers first, then the steps that leave the way to the others; shortest push first (longest
-    // first for a step that opens nothing, with `far_when_shut`); then
-    // the push whose line passes nearest the footprint's centre, in whole footprint cells; the
-    // stable sort keeps face order for ties.
+    // first for a step that opens nothing, with `far_when_shut`); then the push whose line passes
+    // nearest the footprint's centre, in whole footprint cells; the stable sort keeps face order
+    // for ties.
     let off_centre = off_centre_cells(prism, config.footprint_cell);
     candidates.sort_by(|a, b| {
         b.path_after

@@ -57,7 +57,6 @@ impl WorldModel {
                         continue;
                     };
                     if (judged(a) && judged(b))
-                        || other_colours(a, b, config)
                         || self.taller_than_moved(a, b)
                         || self.taller_than_moved(b, a)
                         || !oa.heights_overlap(ob)
@@ -80,7 +79,8 @@ impl WorldModel {
                         && hull.extent() <= config.max_candidate_extent
                         && points_within(a, b, SURFACE_GAP);
                     let touching = || apart <= gap && !self.floor_between(a, b, floor, config);
-                    if !one_surface && !touching() {
+                    // Last, as it sums both point sets: two colours side by side are two things.
+                    if (!one_surface && !touching()) || other_colours(a, b, config) {
                         continue;
                     }
                     pair = Some((i, j));
@@ -131,11 +131,11 @@ impl WorldModel {
             let face = self.prisms.iter().enumerate().position(|(j, f)| {
                 j != i
                     && self.untouched(f.id)
-                    && !other_colours(x, f, config)
                     && nudge_motion::Obstacle::from_prism(f)
                         .is_ok_and(|of| ox.distance_to_obstacle(&of) <= gap)
                     && one_object_l(x, f, robot, config)
                     && !self.floor_between(x, f, &no_floor, config)
+                    && !other_colours(x, f, config)
             });
             let Some(j) = face else {
                 return;
