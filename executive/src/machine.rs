@@ -146,6 +146,11 @@ pub enum Edge {
     /// could not confirm (a static object stops the hand within the wrist's compliance, a millimetre
     /// or two).
     YieldedTwice,
+    /// PushTest → ClearPath (as [`Edge::FoundMovable`]): the retest found the object held at the
+    /// limit, but the test before saw it slide with the hand for centimetres before it jammed. It
+    /// moved, and what stopped it that way (a doorway's jamb a turned crate slid into) holds it
+    /// now: a static object does not slide at all.
+    SlidThenHeld,
     /// PushTest → SelectCandidate: the hand met nothing where the object was seen, again after a
     /// second look: a push there tests empty space, so the object gets no verdict (static would be a
     /// guess: nothing resisted) and is set aside as one no push reaches.
@@ -179,7 +184,7 @@ pub enum Edge {
 
 impl Edge {
     /// Every edge, in declaration order.
-    pub const ALL: [Edge; 50] = [
+    pub const ALL: [Edge; 51] = [
         Edge::Start,
         Edge::LookAroundDone,
         Edge::Detected,
@@ -217,6 +222,7 @@ impl Edge {
         Edge::MovedUnmeasured,
         Edge::AmbiguousTwice,
         Edge::YieldedTwice,
+        Edge::SlidThenHeld,
         Edge::MissedTwice,
         Edge::Cleared,
         Edge::OffLine,
@@ -489,8 +495,17 @@ pub fn transition(
             },
             Event::PushTestDone(evidence),
         ) => conclude_push_test(*target, intent, *attempt, evidence, k, config),
-        (State::ClearPath { target, .. }, Event::Cleared { .. }) => {
+        (State::ClearPath { target, .. }, Event::Cleared { moved }) => {
             *k.clears.entry(*target).or_default() += 1;
+            // A clearing push that moved the object proves it movable as a push test would: one
+            // cleared on the grid's passive evidence alone (something moved and came to rest
+            // there) gets the verdict its push earned.
+            if *moved >= config.classifier.agreement_abs {
+                k.explanation
+                    .verdicts
+                    .entry(*target)
+                    .or_insert(Verdict::Movable);
+            }
             // What was pushed may have stood in the way of pushes ruled out before (a box beside
             // it, whose stand pose it filled): those are asked about afresh after the look.
             k.explanation.unpushable.clear();
@@ -892,6 +907,16 @@ fn gave_way_twice(tests: &[TestRecord], target: ObjectId, config: &ExecutiveConf
     matches!((last.next(), last.next()), (Some(a), Some(b)) if gave(a) && gave(b))
 }
 
+/// Whether the test of `target` before the one just recorded saw it slide with the hand before it
+/// jammed ([`crate::push_test::ClassifierConfig::slid_with_hand`]).
+fn slid_before(tests: &[TestRecord], target: ObjectId, config: &ExecutiveConfig) -> bool {
+    let before = tests.iter().rev().filter(|t| t.object == target).nth(1);
+    before.is_some_and(|t| {
+        matches!(t.finding, Finding::Ambiguous(Ambiguity::MovedThenLimit { icp })
+            if config.classifier.slid_with_hand(icp, t.hand_travel_mm / 1e3))
+    })
+}
+
 fn conclude_push_test(
     target: ObjectId,
     intent: &PushIntent,
@@ -957,6 +982,9 @@ fn conclude_push_test(
         }
     };
     match finding {
+        Finding::Static if attempt >= 2 && slid_before(&k.explanation.tests, target, config) => {
+            verdict_step(k, Verdict::Movable, Edge::SlidThenHeld)
+        }
         Finding::Static => verdict_step(
             k,
             Verdict::Static {

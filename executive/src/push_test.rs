@@ -8,6 +8,8 @@
 //! pushed on for centimetres with the force under the limit ([`ClassifierConfig::gave_way`]), or ICP
 //! saw the object slide with the hand for centimetres before it jammed
 //! ([`ClassifierConfig::slid_with_hand`]): then the object moved, whatever ICP could not measure.
+//! A retest that finds held an object the test before saw slide with the hand and jam finds it
+//! movable too: what stopped it holds it (the executive's `SlidThenHeld` edge).
 
 use nalgebra::{Isometry2, Unit, Vector2};
 use nudge_perception::ObjectId;

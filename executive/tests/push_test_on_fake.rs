@@ -77,7 +77,7 @@ fn a_bolted_box_is_found_static_by_one_test_and_never_moves() {
 
 #[test]
 fn a_box_that_moves_then_holds_is_ambiguous_and_the_one_retest_decides() {
-    // Invariant: a box that slides 5 cm and then holds reads "moved, then the limit" (ambiguous) on its first test; exactly one retest follows (edge Retest) and finds it static, so the verdict is Static, not after ambiguity, and the box truly moved 5 cm, no more.
+    // Invariant: a box that slides 5 cm and then holds reads "moved, then the limit" (ambiguous) on its first test; exactly one retest follows (edge Retest) and finds it held, so the verdict is Movable (edge SlidThenHeld: it slid with the hand, and what stopped it holds it), and the box truly moved 5 cm, no more.
     let (report, robot) = run_with(ObjectResponse::SlidesThenJams {
         force: SLIDING,
         travel: 0.05,
@@ -98,16 +98,18 @@ fn a_box_that_moves_then_holds_is_ambiguous_and_the_one_retest_decides() {
     assert_eq!(tests[1].finding, Finding::Static, "{:?}", tests[1]);
     assert_eq!(
         report.knowledge.explanation.verdicts.get(&id),
-        Some(&Verdict::Static {
-            after_ambiguity: false
-        })
+        Some(&Verdict::Movable)
     );
     let taken = edges(&report);
     let retest = taken
         .iter()
         .position(|e| *e == Edge::Retest)
         .unwrap_or_else(|| panic!("no retest\n{context}"));
-    assert_eq!(taken.get(retest + 1), Some(&Edge::FoundStatic), "{context}");
+    assert_eq!(
+        taken.get(retest + 1),
+        Some(&Edge::SlidThenHeld),
+        "{context}"
+    );
     assert_eq!(taken.iter().filter(|e| **e == Edge::Retest).count(), 1);
     let moved = box_offset(&robot).norm();
     assert!((moved - 0.05).abs() < 1e-9, "the box moved {moved} m");

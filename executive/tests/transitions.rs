@@ -635,11 +635,26 @@ cases! {
         assert_eq!(short.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: true }));
         s.edge
     }
+    a_retest_that_finds_held_what_slid_before_it_jammed_finds_it_movable => {
+        // Invariant: a retest that finds the object held at the limit (ICP under a millimetre), after a test in which ICP saw it slide 59 mm with the hand (63 mm) before it jammed, finds it movable and clears the way with it: it slid, and what stopped it holds it; after a jam with only 2 cm of sliding the clean retest stands, static.
+        let first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(true, 0.063, 0.059)));
+        assert_eq!(first.state, push_test(CHAIR, 2));
+        let s = run(push_test(CHAIR, 2), &first.knowledge, Event::PushTestDone(evidence(true, 0.0013, 0.0004)));
+        assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Movable));
+        assert_eq!(s.state, State::ClearPath { target: CHAIR, intent: intent(CHAIR) });
+        let short_first = run(push_test(CHAIR, 1), &Knowledge { push_tests: 1, ..Knowledge::default() }, Event::PushTestDone(evidence(true, 0.025, 0.020)));
+        let held = run(push_test(CHAIR, 2), &short_first.knowledge, Event::PushTestDone(evidence(true, 0.0013, 0.0004)));
+        assert_eq!(held.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Static { after_ambiguity: false }));
+        s.edge
+    }
     a_finished_clearing_push_looks_again => {
-        // Invariant: after a clearing push the robot re-perceives, and the clear is counted.
+        // Invariant: after a clearing push the robot re-perceives, and the clear is counted; a push that moved the object proves it movable, so one cleared without a test (on passive evidence) gets that verdict, and one that barely moved gets none.
         let s = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::Cleared { moved: 0.8 });
-        assert_eq!((s.state, s.commands), (State::LookAround, vec![Command::LookAround]));
+        assert_eq!((s.state.clone(), s.commands.clone()), (State::LookAround, vec![Command::LookAround]));
         assert_eq!(s.knowledge.clears.get(&CHAIR), Some(&1));
+        assert_eq!(s.knowledge.explanation.verdicts.get(&CHAIR), Some(&Verdict::Movable));
+        let barely = run(State::ClearPath { target: CHAIR, intent: intent(CHAIR) }, &Knowledge::default(), Event::Cleared { moved: 0.005 });
+        assert_eq!(barely.knowledge.explanation.verdicts.get(&CHAIR), None);
         s.edge
     }
     a_clearing_push_gone_off_line_looks_again_and_counts_as_a_clear => {

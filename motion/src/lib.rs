@@ -47,7 +47,7 @@ pub use sequence::{
     PairMiss, PairRecord, Sequence, SequenceConfig, plan_sequence, single_removal_opens,
 };
 pub use space::{Bounds, SpaceError};
-pub use sweep::{SweepBlock, sweep_blocked, sweep_blocked_among, sweep_keeps_clear};
+pub use sweep::{SweepBlock, SweepMargins, sweep_blocked, sweep_blocked_among};
 pub use validity::{RobotCylinder, StateValidity, Validity, ValidityConfig, ValidityError};
 pub use view::{
     Lattice, LatticeCell, LookCoverage, LookPrediction, NoView, SightMap, Targets, ViewConfig,

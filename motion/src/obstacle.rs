@@ -314,6 +314,22 @@ impl Obstacle {
         .map_or(0.0, |c| f64::from(c.dist).min(0.0))
     }
 
+    /// Where this footprint and `other` lie within `margin` (m) of each other: the unit normal of
+    /// their nearest (or, overlapping, deepest) contact, pointing from this footprint towards
+    /// `other`, and their signed distance; `None` when they are farther apart.
+    pub fn contact_with(&self, other: &Obstacle, margin: f64) -> Option<(Vector2<f64>, f64)> {
+        let offset = other.centre - self.centre;
+        let pos12 = Pose::from_translation(Vector::new(offset.x as f32, offset.y as f32));
+        let c = parry2d::query::details::contact_support_map_support_map(
+            &pos12,
+            &self.shape,
+            &other.shape,
+            margin as f32,
+        )?;
+        let normal = Vector2::new(f64::from(c.normal1.x), f64::from(c.normal1.y));
+        Some((normal, f64::from(c.dist)))
+    }
+
     /// Whether `p` lies inside the footprint or on its border.
     pub fn contains(&self, p: &Point2<f64>) -> bool {
         self.shape

@@ -24,7 +24,7 @@ use crate::problem::{GoalRegion, Problem};
 use crate::reach::{Change, ReachMemo, certainly_unreachable};
 use crate::seen_floor::FloorCheck;
 use crate::space::pose;
-use crate::sweep::{SweepBlock, sweep_blocked_among};
+use crate::sweep::{SweepBlock, SweepMargins, sweep_blocked_among};
 use crate::validity::{StateValidity, Validity, ValidityError};
 use std::cell::RefCell;
 
@@ -139,6 +139,26 @@ impl PushConfig {
         }
     }
 }
+
+impl PushConfig {
+    /// What a push's sweep keeps from what it passes: [`Self::sweep_clearance`]; from what it
+    /// starts against, a footprint cell closer or deeper at most, heading more along it than into
+    /// it (see [`SweepMargins`] and [`MAX_CONTACT_FRICTION`]).
+    pub fn sweep_margins(&self) -> SweepMargins {
+        SweepMargins {
+            clearance: self.sweep_clearance,
+            contact: self.footprint_cell,
+            lean: (1.0 / MAX_CONTACT_FRICTION).atan(),
+        }
+    }
+}
+
+/// Most friction between two things that touch (μ): dry wood, plastic, cardboard and painted walls
+/// on each other lie at 0.2–0.6 in handbook tables, rubber at up to 1. An object pushed against a
+/// neighbour slides along it only when the push lies outside their contact's friction cone, more
+/// than `atan(μ)` off its normal; with μ up to 1, a push heading into what it touches by less than
+/// 45° off parallel slides along it, and one heading in more may jam.
+pub const MAX_CONTACT_FRICTION: f64 = 1.0;
 
 /// The longest of the short pushes (m): one to a few strokes, tried every [`SHORT_PUSH_STEP`] (see
 /// [`PushConfig::distances_up_to`]); a push test is planned among these.
@@ -926,7 +946,7 @@ fn sweep_of(
     } = *scene;
     let offset = stance.direction.into_inner() * distance;
     let swept = object.swept(&offset).map_err(ValidityError::from)?;
-    let block = sweep_blocked_among(object, &offset, others, validity, config.sweep_clearance)
+    let block = sweep_blocked_among(object, &offset, others, validity, config.sweep_margins())
         .map_err(ValidityError::from)?;
     let end = follow_end(stance, distance, config);
     if block.is_some() || !without.motion_free(&stance.stand, &end) {

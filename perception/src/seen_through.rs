@@ -174,15 +174,39 @@ impl RangeImage {
     /// returned only from more than `margin` beyond it. A point outside the image, or in a bin
     /// without returns, was not seen through.
     fn looked_through(&self, p: &Point3<f32>, margin: f32) -> bool {
-        let Some((u, v, r)) = tangents(&(self.to_sensor * p)) else {
-            return false;
-        };
-        let Some((c, row)) = self.cell(u, v) else {
-            return false;
-        };
-        let i = row * self.cols + c;
-        self.nearest[i].is_finite() && self.nearest_around[i] > r + margin
+        self.sight(p, margin) == Some(Sight::Through)
     }
+
+    /// What this view saw of map point `p` (see [`Sight`]); `None` outside the image or in a bin
+    /// without returns.
+    fn sight(&self, p: &Point3<f32>, margin: f32) -> Option<Sight> {
+        let (u, v, r) = tangents(&(self.to_sensor * p))?;
+        let (c, row) = self.cell(u, v)?;
+        let i = row * self.cols + c;
+        if !self.nearest[i].is_finite() {
+            return None;
+        }
+        let around = self.nearest_around[i];
+        Some(if around > r + margin {
+            Sight::Through
+        } else if around >= r - margin {
+            Sight::Returned
+        } else {
+            Sight::Hidden
+        })
+    }
+}
+
+/// What a look saw of a place known from before.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sight {
+    /// A view looked through it: nothing stands there now.
+    Through,
+    /// A view returned from it (within the margin of its range): something stands there still.
+    Returned,
+    /// No view saw it: every view that held its direction returned from nearer (something stands
+    /// in front of it), or none held it at all. The look says nothing of it.
+    Hidden,
 }
 
 /// A look's views, each as a range image, for asking which views looked through a place.
@@ -231,6 +255,25 @@ impl LookChanges {
             .iter()
             .flatten()
             .any(|image| image.looked_through(p, margin))
+    }
+
+    /// What the views saw of map point `p` (a point known from before the look): seen through by
+    /// one, else returned by one, else hidden from all of them.
+    pub fn sight_of(&self, p: &Point3<f32>) -> Sight {
+        let margin = SEEN_THROUGH_MARGIN as f32;
+        let mut returned = false;
+        for image in self.images.iter().flatten() {
+            match image.sight(p, margin) {
+                Some(Sight::Through) => return Sight::Through,
+                Some(Sight::Returned) => returned = true,
+                _ => {}
+            }
+        }
+        if returned {
+            Sight::Returned
+        } else {
+            Sight::Hidden
+        }
     }
 
     /// Fuses `views` (the clouds these images were made from, in the same order) as
@@ -376,6 +419,20 @@ mod tests {
             .filter(|(_, p, _)| p.z >= FLOOR_BAND && (p.x - x).hypot(p.y - y) < 0.3)
             .map(|(i, _, _)| split.changes[i])
             .collect()
+    }
+
+    #[test]
+    fn a_place_behind_something_nearer_is_hidden_not_still_there() {
+        // Invariant: a later look says Through for where someone stood and nobody stands now, Returned for a place it sees something standing in at its range, and Hidden for a place behind something nearer: it says nothing of it.
+        let screen = Column(1.5, -0.3);
+        let views = vec![view(0.0, &[screen], 0.0)];
+        let look = LookChanges::new(&views, PITCH);
+        // Where the person stood, in the open: the wall behind it is returned from far beyond.
+        assert_eq!(look.sight_of(&Point3::new(2.8, 0.3, 1.0)), Sight::Through);
+        // The near face of the screen itself.
+        assert_eq!(look.sight_of(&Point3::new(1.3, -0.3, 1.0)), Sight::Returned);
+        // Behind the screen, on the same line of sight.
+        assert_eq!(look.sight_of(&Point3::new(3.0, -0.6, 1.0)), Sight::Hidden);
     }
 
     #[test]

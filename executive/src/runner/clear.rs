@@ -3,7 +3,7 @@
 //! object turned or slid so far off its line that the rest of its sweep would run into something.
 
 use nalgebra::{Isometry2, Isometry3, Point2, Translation3, UnitQuaternion, Vector2};
-use nudge_motion::{Obstacle, SweepBlock, Validity, sweep_blocked};
+use nudge_motion::{Obstacle, SweepBlock, SweepMargins, Validity, sweep_blocked};
 use nudge_perception::{ColourCloud, ObjectId, Prism};
 
 use super::push::icp_pose;
@@ -377,8 +377,11 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             return None;
         }
         let (now, validity) = (t.obstacle()?, validity?);
-        let clearance = self.config.push.sweep_clearance / 2.0;
-        let block = sweep_blocked(&now, &(direction * remaining), validity, clearance)
+        let margins = SweepMargins {
+            clearance: self.config.push.sweep_clearance / 2.0,
+            ..self.config.push.sweep_margins()
+        };
+        let block = sweep_blocked(&now, &(direction * remaining), validity, margins)
             .ok()
             .flatten();
         block.map(|block| {

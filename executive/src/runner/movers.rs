@@ -11,8 +11,9 @@
 
 use nalgebra::Point2;
 use nudge_motion::PushPlan;
+use nudge_perception::grid::{CellIndex, Footprint, GridGeometry};
 use nudge_perception::prism::convex_intersection_area;
-use nudge_perception::seen_through::FLOOR_BAND;
+use nudge_perception::seen_through::{FLOOR_BAND, Sight};
 use nudge_perception::{Change, ColourCloud, LookChanges, ObjectId, Prism, SplitLook};
 
 use super::Runner;
@@ -63,6 +64,12 @@ pub(super) const PERSON_EXTENT: f64 = 1.2;
 /// How far outside a footprint an arrived point still counts as the obstacle's (m): the footprint is
 /// a hull of 4 cm elevation cells, and its own points lie up to a cell from its outline.
 const ARRIVAL_REACH: f64 = 0.05;
+
+/// Least share of an obstacle's points a look must see (through them, or returned from them) to
+/// judge whether it is gone: a quarter, so that a few points seen past the edge of what hides the
+/// rest cannot remove it, while a person half hidden by a chair's back (the body above a 0.9 m
+/// back, of a 1.7 m person) is judged on the half in sight.
+const IN_SIGHT_SHARE: f64 = 0.25;
 
 /// Points of an obstacle asked about, at most: evenly spread, enough for its share to within a few
 /// per cent.
@@ -122,6 +129,15 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             world.untouched(p.id) && seen_through_share(p, changes) > SEEN_THROUGH_SHARE
         });
         self.world.prisms = kept;
+        // The grid's frames never looked through them as the look did: what they left on its cells
+        // (a person who stood still reads as stationary) goes too.
+        if let Some(grid) = self.world.grid.as_mut() {
+            let stamp = self.robot.now();
+            for p in &gone {
+                let cells = own_cells(grid.geometry(), p, &self.world.prisms);
+                grid.departed(Footprint::Cells(&cells), stamp);
+            }
+        }
         if !gone.is_empty() {
             let ids: Vec<String> = gone.iter().map(|p| p.id.to_string()).collect();
             let stamp = self.robot.now();
@@ -421,8 +437,12 @@ fn outline_gap(a: &Prism, b: &Prism) -> f64 {
     one_way(a, b).min(one_way(b, a))
 }
 
-/// The share of `prism`'s points above the floor (an even sample) that the look saw through; 0 for
-/// a prism without such points.
+/// The share of `prism`'s points above the floor (an even sample) that the look saw through, of
+/// those it saw at all (seen through, or returned at their range); 0 for a prism without such
+/// points, or when the look saw fewer than [`IN_SIGHT_SHARE`] of them. A point hidden behind
+/// something nearer says nothing of whether the prism is still there: a person who stood behind a
+/// chair and walked away leaves the points the chair hides from every later look, and counted as
+/// still there they kept the person's obstacle in the way for the rest of the run.
 fn seen_through_share(prism: &Prism, changes: &LookChanges) -> f64 {
     let points = &prism.points;
     let above: Vec<usize> = (0..points.len())
@@ -432,14 +452,46 @@ fn seen_through_share(prism: &Prism, changes: &LookChanges) -> f64 {
         return 0.0;
     }
     let step = above.len().div_ceil(SAMPLE);
-    let (mut asked, mut through) = (0usize, 0usize);
+    let (mut asked, mut through, mut returned) = (0usize, 0usize, 0usize);
     for &i in above.iter().step_by(step) {
         if let Some(p) = points.point(i) {
             asked += 1;
-            through += usize::from(changes.any_looked_through(&p));
+            match changes.sight_of(&p) {
+                Sight::Through => through += 1,
+                Sight::Returned => returned += 1,
+                Sight::Hidden => {}
+            }
         }
     }
-    through as f64 / asked.max(1) as f64
+    let seen = through + returned;
+    if (seen as f64) < IN_SIGHT_SHARE * asked as f64 {
+        return 0.0;
+    }
+    through as f64 / seen.max(1) as f64
+}
+
+/// The grid cells whose centres lie within half a cell of `prism`'s footprint and of no obstacle of
+/// `others`: what it alone stood on (not the chair a person stood against).
+fn own_cells(geometry: &GridGeometry, prism: &Prism, others: &[Prism]) -> Vec<CellIndex> {
+    let half = geometry.resolution() / 2.0;
+    let (lo, hi) = prism.footprint.iter().fold(
+        (
+            Point2::new(f64::INFINITY, f64::INFINITY),
+            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
+        |(lo, hi), v| (lo.inf(v), hi.sup(v)),
+    );
+    let (Some(a), Some(b)) = (geometry.cell_of(lo), geometry.cell_of(hi)) else {
+        return Vec::new();
+    };
+    (a.y..=b.y)
+        .flat_map(|y| (a.x..=b.x).map(move |x| CellIndex::new(x, y)))
+        .filter(|&c| {
+            let centre = geometry.centre(c);
+            prism.distance_xy(&centre) <= half
+                && !others.iter().any(|k| k.distance_xy(&centre) <= half)
+        })
+        .collect()
 }
 
 /// Whether an obstacle no larger than people ([`PERSON_EXTENT`]) stands on floor the grid saw free

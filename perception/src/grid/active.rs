@@ -39,7 +39,7 @@ pub enum Footprint<'a> {
 }
 
 impl ObstacleGrid {
-    fn footprint_indices(&self, fp: Footprint<'_>) -> Vec<usize> {
+    pub(crate) fn footprint_indices(&self, fp: Footprint<'_>) -> Vec<usize> {
         match fp {
             Footprint::Cells(cells) => {
                 let mut v: Vec<usize> = cells.iter().filter_map(|&c| self.idx(c)).collect();

@@ -100,6 +100,7 @@
 
 mod active;
 mod class;
+mod departed;
 mod evidence;
 mod frame;
 mod geometry;
