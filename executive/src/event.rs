@@ -59,6 +59,9 @@ pub enum Event {
     ObjectsDetected {
         /// How many obstacles.
         count: usize,
+        /// How many obstacles the world model forgot since the last detection because the look saw
+        /// through where they stood: pushes they stood in the way of may now be made.
+        gone: usize,
     },
     /// The planner found a path to the goal.
     PathFound {

@@ -303,7 +303,12 @@ pub fn transition(
             vec![Command::DetectObjects],
             Edge::LookAroundDone,
         ),
-        (State::DetectObjects, Event::ObjectsDetected { .. }) => {
+        (State::DetectObjects, Event::ObjectsDetected { gone, .. }) => {
+            // What stood in the way of a push ruled out may be what went (a person beyond a
+            // chair): pushes ruled out are asked about afresh.
+            if *gone > 0 {
+                k.explanation.unpushable.clear();
+            }
             step(State::PlanPath, k, vec![Command::PlanPath], Edge::Detected)
         }
         (State::PlanPath, Event::PathFound { .. }) => step(

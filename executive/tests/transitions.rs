@@ -172,9 +172,14 @@ cases! {
         s.edge
     }
     detected_objects_plan_a_path => {
-        // Invariant: detected obstacles lead to path planning.
-        let s = run(State::DetectObjects, &Knowledge::default(), Event::ObjectsDetected { count: 4 });
-        assert_eq!((s.state, s.commands), (State::PlanPath, vec![Command::PlanPath]));
+        // Invariant: detected obstacles lead to path planning; pushes ruled out stay ruled out after a look that forgot nothing, and are asked about afresh after one that forgot an obstacle (what blocked them may be what went).
+        let mut k = Knowledge::default();
+        k.explanation.unpushable.insert(CHAIR, "every push runs into obj-8".into());
+        let s = run(State::DetectObjects, &k, Event::ObjectsDetected { count: 4, gone: 0 });
+        assert_eq!((s.state.clone(), s.commands.clone()), (State::PlanPath, vec![Command::PlanPath]));
+        assert!(s.knowledge.explanation.unpushable.contains_key(&CHAIR));
+        let forgot = run(State::DetectObjects, &k, Event::ObjectsDetected { count: 3, gone: 1 });
+        assert!(forgot.knowledge.explanation.unpushable.is_empty());
         s.edge
     }
     a_found_path_is_walked => {

@@ -130,6 +130,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 self.observer.prisms(stamp, &self.world.prisms);
                 Event::ObjectsDetected {
                     count: self.world.prisms.len(),
+                    gone: std::mem::take(&mut self.world.forgotten),
                 }
             }
             Err(e) => Event::PerceptionFailed(e.to_string()),

@@ -129,6 +129,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             world.untouched(p.id) && seen_through_share(p, changes) > SEEN_THROUGH_SHARE
         });
         self.world.prisms = kept;
+        self.world.forgotten += gone.len();
         // The grid's frames never looked through them as the look did: what they left on its cells
         // (a person who stood still reads as stationary) goes too.
         if let Some(grid) = self.world.grid.as_mut() {

@@ -96,6 +96,10 @@ pub(crate) struct WorldModel {
     /// The push sequences the last sequence search considered, each with what stopped it (empty when
     /// it found one).
     pub sequences: Vec<nudge_motion::PairRecord>,
+    /// Obstacles forgotten since the last detection was reported because a look saw through where
+    /// they stood (see [`crate::Event::ObjectsDetected`]). Not those forgotten for being out of
+    /// sight: a person no look shows may still stand in the way beyond it.
+    pub forgotten: usize,
 }
 
 /// Clearances tried when planning, as fractions of the configured one, largest first: where the robot
