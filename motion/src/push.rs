@@ -140,19 +140,6 @@ impl PushConfig {
     }
 }
 
-impl PushConfig {
-    /// What a push's sweep keeps from what it passes: [`Self::sweep_clearance`]; from what it
-    /// starts against, a footprint cell closer or deeper at most, heading more along it than into
-    /// it (see [`SweepMargins`] and [`MAX_CONTACT_FRICTION`]).
-    pub fn sweep_margins(&self) -> SweepMargins {
-        SweepMargins {
-            clearance: self.sweep_clearance,
-            contact: self.footprint_cell,
-            lean: (1.0 / MAX_CONTACT_FRICTION).atan(),
-        }
-    }
-}
-
 /// Most friction between two things that touch (μ): dry wood, plastic, cardboard and painted walls
 /// on each other lie at 0.2–0.6 in handbook tables, rubber at up to 1. An object pushed against a
 /// neighbour slides along it only when the push lies outside their contact's friction cone, more
@@ -169,6 +156,17 @@ pub const SHORT_PUSHES: f64 = 1.2;
 pub const SHORT_PUSH_STEP: f64 = 0.1;
 
 impl PushConfig {
+    /// What a push's sweep keeps from what it passes: [`Self::sweep_clearance`]; from what it
+    /// starts against, a footprint cell closer or deeper at most, heading more along it than into
+    /// it (see [`SweepMargins`] and [`MAX_CONTACT_FRICTION`]).
+    pub fn sweep_margins(&self) -> SweepMargins {
+        SweepMargins {
+            clearance: self.sweep_clearance,
+            contact: self.footprint_cell,
+            lean: (1.0 / MAX_CONTACT_FRICTION).atan(),
+        }
+    }
+
     /// Push distances to try, shortest first, up to `longest` (m): every 0.1 m from 0.3 m to 1.2 m
     /// (one to a few strokes, where a few centimetres decide whether the way opens beside the
     /// object), then every 0.2 m (long pushes through a doorway or along a corridor, where the

@@ -93,15 +93,19 @@ pub fn sweep_blocked_among(
     let hit = others
         .iter()
         .filter(|o| o.id() != object.id() && o.heights_overlap(object))
-        .find(|o| match object.contact_with(o, margins.contact) {
-            Some((normal, start)) => {
-                let swept_gap = swept.signed_distance_to_obstacle(o);
-                !margins.slides_along(&direction, &normal, start, swept_gap)
+        .find(|o| {
+            let start_gap = object.distance_to_obstacle(o);
+            // Only what the object starts against needs their contact's normal and depth.
+            let contact = (start_gap <= margins.contact)
+                .then(|| object.contact_with(o, margins.contact))
+                .flatten();
+            match contact {
+                Some((normal, start)) => {
+                    let swept_gap = swept.signed_distance_to_obstacle(o);
+                    !margins.slides_along(&direction, &normal, start, swept_gap)
+                }
+                None => !margins.keep_clear(start_gap, swept.distance_to_obstacle(o)),
             }
-            None => !margins.keep_clear(
-                object.distance_to_obstacle(o),
-                swept.distance_to_obstacle(o),
-            ),
         });
     if let Some(o) = hit {
         return Ok(Some(SweepBlock::Obstacle(o.id())));
@@ -166,7 +170,7 @@ mod tests {
 
     #[test]
     fn a_sweep_keeps_the_clearance_or_comes_at_most_the_contact_margin_closer() {
-        // Invariant: a sweep keeps the clearance from what it starts well clear of and never touches it; from what it starts within the clearance of, it closes at most `contact` of the gap; from what it starts within `contact` of, a push closes in by at most `contact` over its whole length, judged by its first step.
+        // Invariant: a sweep keeps the clearance from what it starts well clear of and never touches it; from what it starts within the clearance of, it closes at most `contact` of the gap; from what it starts within `contact` of, a push heads into it by less than `lean` and closes in by at most `contact` over its whole length.
         assert!(MARGINS.keep_clear(0.3, 0.2));
         assert!(!MARGINS.keep_clear(0.3, 0.01));
         assert!(!MARGINS.keep_clear(0.3, 0.0));

@@ -247,16 +247,6 @@ impl LookChanges {
         }
     }
 
-    /// Whether any of the views looked through map point `p` (a point known from before the look:
-    /// it is gone when one did).
-    pub fn any_looked_through(&self, p: &Point3<f32>) -> bool {
-        let margin = SEEN_THROUGH_MARGIN as f32;
-        self.images
-            .iter()
-            .flatten()
-            .any(|image| image.looked_through(p, margin))
-    }
-
     /// What the views saw of map point `p` (a point known from before the look): seen through by
     /// one, else returned by one, else hidden from all of them.
     pub fn sight_of(&self, p: &Point3<f32>) -> Sight {
@@ -483,7 +473,7 @@ mod tests {
             .count();
         assert!(arrived as f64 > 0.9 * near(&after).len() as f64);
         // The look before saw through where the person stands now, not through the wall it returned.
-        assert!(before.any_looked_through(&Point3::new(2.4, 0.0, 1.0)));
-        assert!(!before.any_looked_through(&Point3::new(4.0, 0.0, 1.0)));
+        assert_eq!(before.sight_of(&Point3::new(2.4, 0.0, 1.0)), Sight::Through);
+        assert_ne!(before.sight_of(&Point3::new(4.0, 0.0, 1.0)), Sight::Through);
     }
 }
