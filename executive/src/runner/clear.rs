@@ -235,7 +235,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 to_x,
                 y,
                 z: intent.clear_height,
-                route: Route::for_line(self.world.tipped.contains(&intent.target)),
+                route: Route::for_line(self.world.objects.get(intent.target).tipped),
             };
             let stroke = self.stroke(hand_line, limit, approach)?;
             peak = peak.max(stroke.peak_force);

@@ -7,7 +7,7 @@ use nudge_perception::{ColourCloud, Prism};
 
 use super::config::RunConfig;
 use super::floor_index::FloorIndex;
-use super::world::{SAME_PLACE, TOP_MARGIN, WorldModel, footprint_box};
+use super::world::{TOP_MARGIN, WorldModel, footprint_box};
 
 impl WorldModel {
     /// Whether floor was seen where the hull of `a` and `b` covers neither (two wall runs meeting at a
@@ -43,7 +43,7 @@ impl WorldModel {
     pub(super) fn merge_fragments(&mut self, floor: &FloorIndex, config: &RunConfig) {
         let gap = self.touching_gap();
         loop {
-            let judged = |p: &Prism| self.settled.contains(&p.id) || self.movable.contains(&p.id);
+            let judged = |p: &Prism| self.objects.get(p.id).judgement.is_some();
             let outlines: Vec<Option<nudge_motion::Obstacle>> = self
                 .prisms
                 .iter()
@@ -180,17 +180,12 @@ impl WorldModel {
             merged.points.push(p, c);
         }
         self.prisms[i] = merged;
-        self.pushed.remove(&b.id);
-        for absorbed in [a_id, b.id].into_iter().filter(|k| *k != id) {
-            self.joined.insert(absorbed, id);
-        }
         // The merged obstacle was seen from wherever either piece was.
-        let places = self.seen_from.remove(&b.id).unwrap_or_default();
-        let from = self.seen_from.entry(id).or_default();
-        for p in places {
-            if !from.iter().any(|q| (q - p).norm() < SAME_PLACE) {
-                from.push(p);
-            }
+        if id == a_id {
+            self.objects.join(b.id, id);
+        } else {
+            self.objects.learn(b.id).seen_again();
+            self.objects.learn(a_id).joined = Some(id);
         }
     }
 }
@@ -214,8 +209,9 @@ impl WorldModel {
     /// over the floor keeps its height, so what stands taller beside it is something else (see
     /// [`Self::remember`]).
     fn taller_than_moved(&self, moved: &Prism, other: &Prism) -> bool {
-        self.moved.contains(&moved.id)
-            && !self.settled.contains(&moved.id)
+        let known = self.objects.get(moved.id);
+        known.ever_moved()
+            && !known.settled()
             && other.z_max > moved.z_max + super::world::RESTING_COLUMN
     }
 }
@@ -470,7 +466,7 @@ mod tests {
             .expect("the pushed box");
         assert!(pushed.contains_xy(&Point2::new(4.07, 1.75)));
         assert!(pushed.contains_xy(&Point2::new(4.3, 1.95)));
-        assert_eq!(world.joined.get(&ObjectId(7)), Some(&ObjectId(8)));
+        assert_eq!(world.objects.get(ObjectId(7)).joined, Some(ObjectId(8)));
         assert!(world.prisms.contains(&wall_end));
         assert!(world.prisms.contains(&apart));
     }
@@ -502,15 +498,20 @@ mod tests {
             prisms: vec![a.clone(), b.clone()],
             ..WorldModel::default()
         };
-        world.settled.insert(ObjectId(3));
-        world.movable.insert(ObjectId(4));
+        world
+            .objects
+            .judge(ObjectId(3), nudge_perception::grid::Verdict::Static, 1);
+        world
+            .objects
+            .judge(ObjectId(4), nudge_perception::grid::Verdict::Movable, 2);
         world.merge_fragments(&FloorIndex::new(&floor(0.1, 0.1, 0.2, 0.2)), &config);
         assert_eq!(world.prisms.len(), 2);
         let mut one = WorldModel {
             prisms: vec![solid(2, (2.0, 1.0, 2.5, 1.5), 0.8), b],
             ..WorldModel::default()
         };
-        one.movable.insert(ObjectId(4));
+        one.objects
+            .judge(ObjectId(4), nudge_perception::grid::Verdict::Movable, 1);
         one.merge_fragments(&FloorIndex::new(&floor(0.1, 0.1, 0.2, 0.2)), &config);
         assert_eq!(one.prisms.len(), 1);
         assert_eq!(one.prisms[0].id, ObjectId(4));

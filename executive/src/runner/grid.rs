@@ -471,25 +471,16 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
     /// Writes a push test's verdict into the grid over the object's footprint.
     pub(crate) fn mark_verdict(&mut self, target: ObjectId, verdict: &Verdict, push_test: u32) {
-        match verdict {
-            Verdict::Static { .. } => {
-                self.world.settled.insert(target);
-                self.world.movable.remove(&target);
-            }
-            Verdict::Movable => {
-                self.world.settled.remove(&target);
-                self.world.movable.insert(target);
-            }
-        }
+        let class = match verdict {
+            Verdict::Static { .. } => GridVerdict::Static,
+            Verdict::Movable => GridVerdict::Movable,
+        };
+        self.world.objects.judge(target, class, push_test);
         let Some(prism) = self.world.prisms.iter().find(|p| p.id == target) else {
             return;
         };
         let Some(grid) = self.world.grid.as_mut() else {
             return;
-        };
-        let class = match verdict {
-            Verdict::Static { .. } => GridVerdict::Static,
-            Verdict::Movable => GridVerdict::Movable,
         };
         let stamp = self.robot.now();
         let marked = grid.mark_object(
@@ -582,19 +573,19 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Whether `prism` may be a person by what the looks saw: a look saw it arrive (see
-    /// [`super::world::WorldModel::arrivals`]), or saw something come or go on its cells, or their
+    /// [`super::object::Knowledge::arrived`]), or saw something come or go on its cells, or their
     /// neighbours, within [`GridSetup::mover_memory`] of now (see
     /// [`super::world::WorldModel::look_motion`]).
     pub(crate) fn seen_moving(&self, prism: &Prism) -> bool {
         let since = self.robot.elapsed() - self.config.grid.mover_memory;
-        self.world.arrivals.contains(&prism.id)
+        self.world.objects.get(prism.id).arrived
             || self.motion_on(prism, &self.world.look_motion, since)
     }
 
     /// Whether a look saw `prism` arrive, or saw something come or go on its cells, or their
     /// neighbours, at any time in the run.
     pub(crate) fn seen_moving_ever(&self, prism: &Prism) -> bool {
-        self.world.arrivals.contains(&prism.id)
+        self.world.objects.get(prism.id).arrived
             || self.motion_on(prism, &self.world.look_motion, f64::NEG_INFINITY)
     }
 

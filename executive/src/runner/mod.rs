@@ -13,6 +13,7 @@ mod grid;
 mod look;
 mod movers;
 mod navigate;
+mod object;
 mod outline;
 mod push;
 mod rank;
@@ -150,7 +151,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             robot_time: self.robot.now() - self.start_time,
             timeline,
             obstacles: self.world.prisms.clone(),
-            joined: self.world.joined.clone(),
+            joined: self.world.objects.joins(),
             sequences: self.world.sequences.clone(),
             grid: self.world.grid.clone(),
             decisions,

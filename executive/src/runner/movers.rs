@@ -160,7 +160,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Whether `prism` is someone keeping their distance from the robot: a look saw it arrive
-    /// ([`super::world::WorldModel::arrivals`]), and it stands within [`PERSON_CLEARANCE`] of the
+    /// ([`super::object::Knowledge::arrived`]), and it stands within [`PERSON_CLEARANCE`] of the
     /// robot's body where the robot took its last look. People who find the robot in their way stop
     /// at the edge of its intimate zone (Hall's 0.45 m) and wait there; the grid's passive rules read
     /// them as something moved and left at rest, like a cart left behind, and a clearing stroke
@@ -170,7 +170,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     pub(crate) fn keeps_its_distance(&self, prism: &Prism) -> bool {
         stands_off(
             prism,
-            self.world.arrivals.contains(&prism.id),
+            self.world.objects.get(prism.id).arrived,
             self.world.looks.last(),
             self.config.model.body.radius,
         )
@@ -242,7 +242,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     }
 
     /// Notes the obstacles that hold at least [`ARRIVED_POINTS`] of the look's `arrived` points as
-    /// arrivals (see [`super::world::WorldModel::arrivals`]).
+    /// arrivals (see [`super::object::Knowledge::arrived`]).
     pub(crate) fn note_arrivals(&mut self, arrived: &ColourCloud) {
         if arrived.is_empty() {
             return;
@@ -259,7 +259,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .take(ARRIVED_POINTS)
                 .count();
             if inside >= ARRIVED_POINTS {
-                self.world.arrivals.insert(prism.id);
+                self.world.objects.learn(prism.id).arrived = true;
             }
         }
     }
@@ -271,10 +271,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
     /// candidate for a push).
     pub(crate) fn note_arrived_on_free_floor(&mut self) {
         let arrived: Vec<ObjectId> = self.untouched(|p| {
-            !self.world.arrivals.contains(&p.id)
+            !self.world.objects.get(p.id).arrived
                 && came_onto_free_floor(p, || self.world.free_share(p))
         });
-        self.world.arrivals.extend(arrived);
+        for id in arrived {
+            self.world.objects.learn(id).arrived = true;
+        }
     }
 
     /// Notes that the look's detections (`shown`, their footprints) showed the obstacles they overlap
@@ -286,7 +288,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                 .iter()
                 .any(|o| convex_intersection_area(o, &p.footprint) > 0.0)
             {
-                self.world.last_detected.insert(p.id, now);
+                self.world.objects.learn(p.id).last_detected = Some(now);
             }
         }
     }
@@ -313,8 +315,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             movers.contains(id)
                 && self
                     .world
+                    .objects
+                    .get(*id)
                     .last_detected
-                    .get(id)
                     .is_none_or(|t| now - t > memory)
         };
         // Frames are stamped by the robot's clock, detections by the time let pass: the detection
@@ -324,8 +327,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             movers.contains(&p.id) && {
                 let since = self
                     .world
+                    .objects
+                    .get(p.id)
                     .last_detected
-                    .get(&p.id)
                     .map_or(f64::NEG_INFINITY, |t| clock_now - (now - t));
                 self.world.grid_saw_it_gone(p, since)
             }
@@ -342,9 +346,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
                         // height: a lower obstacle goes once frames have also seen the floor it
                         // stood on bare since a look last showed it.
                         p.z_max > proves_free_above || {
-                            let since = self.world.last_detected.get(&p.id);
+                            let since = self.world.objects.get(p.id).last_detected;
                             self.world
-                                .floor_seen_since(p, since.copied().unwrap_or(f64::NEG_INFINITY))
+                                .floor_seen_since(p, since.unwrap_or(f64::NEG_INFINITY))
                         }
                     })
             })

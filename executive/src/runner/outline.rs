@@ -13,7 +13,7 @@ impl WorldModel {
     /// (its floor, or a return there), or lies inside another obstacle (it cannot be seen and does not
     /// matter); and the places the looks that showed it were taken from.
     pub fn outline_seen(&self, prism: &Prism) -> (f64, &[Point2<f64>]) {
-        let from = self.seen_from.get(&prism.id).map_or(&[][..], Vec::as_slice);
+        let from = self.objects.get(prism.id).seen_from.as_slice();
         let Some(grid) = &self.grid else {
             return (0.0, from);
         };

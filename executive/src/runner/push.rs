@@ -84,7 +84,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         };
         // An object that tipped under the hand is pushed at no more than half its height from then
         // on, as its retest was (see `Ambiguity::Tipped`).
-        if self.world.tipped.contains(&target) {
+        if self.world.objects.get(target).tipped {
             let (low, high) = push_config.reach_z;
             push_config.reach_z = (low, high.min((prism.z_max / 2.0).max(low)));
         }
@@ -393,7 +393,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let z = intent.hand_height.clamp(low, high);
         // A line below the face's top band (lowered below tipping, or retested at half the height
         // after the object tipped) is reached beside the body: the object may overhang it.
-        let below_top = hand_z.is_some() || self.world.tipped.contains(&intent.target);
+        let below_top = hand_z.is_some() || self.world.objects.get(intent.target).tipped;
         let line = StrokeLine {
             from_x,
             face_x: contact.x,
@@ -448,7 +448,7 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             force_trace: stroke.trace,
         };
         if self.config.executive.classifier.tipped(&evidence).is_some() {
-            self.world.tipped.insert(intent.target);
+            self.world.objects.learn(intent.target).tipped = true;
         }
         Ok(evidence)
     }

@@ -42,8 +42,9 @@ impl<R: Robot, O: Observer> Runner<R, O> {
             // a push) that came to rest clear of everything else is pushed again while it is small
             // enough, its top seen or not. Resting against something, its outline may have taken
             // that in.
-            let moves = (self.world.movable.contains(&p.id) || self.world.moved.contains(&p.id))
-                && !self.world.rests_against_another(p);
+            let known = self.world.objects.get(p.id);
+            let moves =
+                (known.movable() || known.ever_moved()) && !self.world.rests_against_another(p);
             let why = if !moves && self.world.is_structure(p, &self.config) {
                 SetAsideWhy::Structure
             } else if extent > limit {

@@ -3,12 +3,11 @@
 use nalgebra::{Isometry3, Point2};
 use nudge_motion::{Bounds, Path, Problem, PushPlan, Validity};
 use nudge_perception::grid::ObstacleGrid;
-use std::collections::BTreeSet;
-
 use nudge_perception::{ColourCloud, FloorModel, ObjectId, Prism};
 
 use super::config::RunConfig;
 use super::floor_index::FloorIndex;
+use super::object::Objects;
 use super::unseen::SeenMemory;
 
 /// The runner's world model.
@@ -36,20 +35,10 @@ pub(crate) struct WorldModel {
     /// Where the hand last ended a stroke in contact with an object (map frame): that object's face on
     /// the push line, measured rather than perceived.
     pub touched: Option<(nudge_perception::ObjectId, Point2<f64>)>,
-    /// Obstacles a push test found static: they stay where they were measured (see [`Self::remember`]).
-    pub settled: BTreeSet<ObjectId>,
-    /// Obstacles a push test found movable: a detection that overlaps one takes its id, so the
-    /// verdict stays with the object however often it is seen again (see [`Self::remember`]).
-    pub movable: BTreeSet<ObjectId>,
-    /// Obstacles moved by a confirmed push since they were last seen: their footprints are predictions
-    /// (the object may have turned as it slid), which the next sight of them replaces.
-    pub pushed: BTreeSet<ObjectId>,
-    /// Obstacles the robot has ever moved by a push: one rigid body each, of known height, whose id a
-    /// later detection overlapping it takes (see [`Self::remember`]).
-    pub moved: BTreeSet<ObjectId>,
-    /// Obstacles a later look showed to be part of another, with the id of the one they joined (a
-    /// table tested at one end, found whole later): their verdicts are about that obstacle.
-    pub joined: std::collections::BTreeMap<ObjectId, ObjectId>,
+    /// What the run has learnt of each object it has numbered (verdicts, pushes, arrivals, where
+    /// it was seen from), by id: an obstacle a later detection overlaps takes its id, and with it
+    /// everything known of the object (see [`Self::remember`]).
+    pub objects: Objects,
     /// Per grid cell, when the last look or walk frame that left it Moving came in, as robot time let
     /// pass ([`super::watchdog::Watchdog::elapsed`], NaN: never): that time only runs forward, so a
     /// clock that steps back an hour cannot make old motion count as lately for an hour. Frames of
@@ -64,10 +53,6 @@ pub(crate) struct WorldModel {
     /// Whether the robot has walked off the goal to look closer at what may have been people (see
     /// `recheck.rs`): it does so on one arrival only.
     pub looked_closer: bool,
-    /// Per obstacle, when a look's detections last showed it, as robot time let pass
-    /// ([`super::watchdog::Watchdog::elapsed`]): an obstacle that may be a person is forgotten
-    /// [`super::config::GridSetup::mover_memory`] after it (see `movers.rs`).
-    pub last_detected: std::collections::BTreeMap<nudge_perception::ObjectId, f64>,
     /// Per grid cell, when a look-around last saw something come or go there (a point departed or
     /// arrived: see [`nudge_perception::seen_through`]), as robot time let pass (NaN: never). Unlike
     /// the grid's Moving cells, which a surface coming into view as the robot walks can raise in a
@@ -78,16 +63,8 @@ pub(crate) struct WorldModel {
     /// seen at that moment, where [`Self::last_motion`] is renewed every frame a cell stays Moving
     /// (the grid keeps a cell a person walked through Moving until a ray crosses it again).
     pub fresh_motion: Vec<f64>,
-    /// Obstacles a look saw arrive (an earlier view of the look saw through where they stand): they
-    /// came while the head turned, so they move by themselves or were carried, and may be people.
-    pub arrivals: std::collections::BTreeSet<nudge_perception::ObjectId>,
     /// Where the last walk ended blocked, facing the way it walked (see the runner's `plan_to`).
     pub blocked_at: Option<nalgebra::Isometry2<f64>>,
-    /// Objects a push test's stroke stopped on with its force leaning out of the horizontal: they
-    /// tipped under the hand, and are pushed low from then on.
-    pub tipped: std::collections::BTreeSet<ObjectId>,
-    /// Per obstacle, the places the looks that showed it were taken from.
-    pub seen_from: std::collections::BTreeMap<ObjectId, Vec<Point2<f64>>>,
     /// The cells the viewpoint chosen last is predicted to show.
     pub view_cells: Option<Vec<usize>>,
     /// The cells the viewpoint the robot arrived at is predicted to show: after its look, those still
@@ -275,7 +252,7 @@ impl WorldModel {
             super::grid::near_motion(g.geometry(), &self.last_motion, g.config().rest_radius)
         });
         let overlaps = |a: &Prism, b: &Prism| a.id == b.id || a.footprint_iou(b) > 0.0;
-        let settled = |p: &Prism| self.settled.contains(&p.id);
+        let settled = |p: &Prism| self.objects.get(p.id).settled();
         let mut current: Vec<Prism> = Vec::with_capacity(detected.len() + self.prisms.len());
         let mut absorbed = Vec::new();
         let mut joins = Vec::new();
@@ -296,7 +273,7 @@ impl WorldModel {
                     // Two things of two colours that touch, whatever floor shows between them.
                     continue;
                 }
-                if self.pushed.contains(&old.id) && !settled(old) {
+                if self.objects.get(old.id).predicted() && !settled(old) {
                     // A pushed object seen again: where it is now is what the look shows, under its
                     // own id (its verdict stays with it; the look numbers its detections afresh).
                     merged.id = old.id;
@@ -312,7 +289,8 @@ impl WorldModel {
                     merged.id = id;
                 } else if !seen_floor(old, Some(&new)) && !floor_between(&merged, old) {
                     merged = merged.merged_with(old);
-                    if self.movable.contains(&old.id) || self.moved.contains(&old.id) {
+                    let known = self.objects.get(old.id);
+                    if known.movable() || known.ever_moved() {
                         merged.id = old.id;
                     }
                 } else {
@@ -323,9 +301,6 @@ impl WorldModel {
             }
             current.push(merged);
         }
-        self.joined.extend(joins);
-        // A pushed object seen again is no longer a prediction.
-        self.pushed.retain(|id| !absorbed.contains(id));
         for old in &self.prisms {
             // Floor seen inside an obstacle the look did not find again means it was moved away,
             // unless the grid still holds returns there (the legs of a chair seen from afar, the
@@ -335,6 +310,13 @@ impl WorldModel {
             if !absorbed.contains(&old.id) && (settled(old) || !gone) {
                 current.push(old.clone());
             }
+        }
+        for (part, whole) in joins {
+            self.objects.learn(part).joined = Some(whole);
+        }
+        // A pushed object seen again is no longer a prediction.
+        for id in &absorbed {
+            self.objects.learn(*id).seen_again();
         }
         // Two detections merged into one settled obstacle: keep one prism per id.
         current.sort_by_key(|p| p.id);
@@ -352,9 +334,8 @@ impl WorldModel {
             let shown = outlines.iter().any(|o| {
                 nudge_perception::prism::convex_intersection_area(o, &prism.footprint) > 0.0
             });
-            let from = self.seen_from.entry(prism.id).or_default();
-            if shown && !from.iter().any(|p| (p - robot).norm() < SAME_PLACE) {
-                from.push(*robot);
+            if shown {
+                self.objects.learn(prism.id).seen_from_place(*robot);
             }
         }
     }
@@ -367,7 +348,10 @@ impl WorldModel {
     /// are returned as they are.
     fn parted_from_what_it_rests_against(&self, new: Prism, config: &RunConfig) -> Prism {
         let overlapping = |old: &&Prism| old.id == new.id || old.footprint_iou(&new) > 0.0;
-        let moved = |old: &Prism| self.moved.contains(&old.id) && !self.settled.contains(&old.id);
+        let moved = |old: &Prism| {
+            let known = self.objects.get(old.id);
+            known.ever_moved() && !known.settled()
+        };
         let Some(top) = self
             .prisms
             .iter()
@@ -382,7 +366,7 @@ impl WorldModel {
             .prisms
             .iter()
             .filter(overlapping)
-            .filter(|old| !moved(old) && !self.movable.contains(&old.id))
+            .filter(|old| !moved(old) && !self.objects.get(old.id).movable())
             .collect();
         let taller = columns_above(&new.points, top + RESTING_COLUMN, |_| true);
         let keep = |p: &nalgebra::Point3<f32>| {
@@ -398,7 +382,7 @@ impl WorldModel {
     /// movable, never moved by the robot. Only such an obstacle can be a mistake of perception's (a
     /// smear, a piece of something else) to forget or join to another.
     pub(super) fn untouched(&self, id: ObjectId) -> bool {
-        !self.settled.contains(&id) && !self.movable.contains(&id) && !self.moved.contains(&id)
+        self.objects.get(id).untouched()
     }
 
     /// Moves obstacle `id` by a measured rigid `motion` (map frame; a confirmed push, which may have
@@ -408,8 +392,7 @@ impl WorldModel {
         for p in self.prisms.iter_mut().filter(|p| p.id == id) {
             *p = p.transformed(motion);
         }
-        self.pushed.insert(id);
-        self.moved.insert(id);
+        self.objects.pushed(id);
     }
 
     /// Takes out of the other obstacles the points that were `moved`'s, as it stood before a push
@@ -482,10 +465,7 @@ impl WorldModel {
 
     /// Whether a push test decided `id` is `verdict`.
     fn decided(&self, id: ObjectId, verdict: nudge_perception::grid::Verdict) -> bool {
-        self.grid
-            .as_ref()
-            .and_then(|g| g.verdict(id))
-            .is_some_and(|(v, _)| v == verdict)
+        self.objects.get(id).judged(verdict)
     }
 
     /// Whether `prism` may still move: neither decided static by a push test nor room structure.
@@ -532,14 +512,11 @@ impl WorldModel {
     /// and far reads as high as the near view shows, well above the far view's top. Not known to
     /// have been seen by a look: no.
     fn top_seen(&self, prism: &Prism, config: &RunConfig) -> bool {
-        self.seen_from
-            .get(&prism.id)
-            .and_then(|places| {
-                places
-                    .iter()
-                    .map(|look| far_side(prism, look))
-                    .max_by(f64::total_cmp)
-            })
+        let places = &self.objects.get(prism.id).seen_from;
+        places
+            .iter()
+            .map(|look| far_side(prism, look))
+            .max_by(f64::total_cmp)
             .is_some_and(|d| prism.z_max + TOP_MARGIN < config.top_in_view(d))
     }
 
@@ -589,16 +566,13 @@ fn columns_above(
     points: &ColourCloud,
     top: f64,
     near: impl Fn(&nalgebra::Point3<f32>) -> bool,
-) -> BTreeSet<(i64, i64)> {
+) -> std::collections::BTreeSet<(i64, i64)> {
     points
         .iter_valid()
         .filter(|(_, p, _)| f64::from(p.z) > top && near(p))
         .map(|(_, p, _)| resting_column(&p))
         .collect()
 }
-
-/// Looks taken this close together (m) were taken from one place.
-pub(super) const SAME_PLACE: f64 = 0.05;
 
 /// Elevation cells are 4 cm and the range noise about a centimetre: a surface cut by the view's top
 /// ray reads up to this far below it, and one top seen twice reads up to this far apart (m).
@@ -797,7 +771,9 @@ pub(super) mod tests {
             prisms: vec![table.clone()],
             ..WorldModel::default()
         };
-        world.settled.insert(ObjectId(2));
+        world
+            .objects
+            .judge(ObjectId(2), nudge_perception::grid::Verdict::Static, 1);
         world.remember(vec![part.clone()], &under, &robot, &config);
         assert_eq!(world.prisms.len(), 1);
         assert_eq!(world.prisms[0].id, ObjectId(2));
@@ -975,7 +951,9 @@ pub(super) mod tests {
             ],
             ..WorldModel::default()
         };
-        world.movable.insert(ObjectId(9));
+        world
+            .objects
+            .judge(ObjectId(9), nudge_perception::grid::Verdict::Movable, 1);
         for look in 0..3 {
             let seen = vec![
                 prism(20 + 2 * look, 2.8, 1.6, 3.3, 2.1),
@@ -1010,7 +988,7 @@ pub(super) mod tests {
                 ..seen.clone()
             }]
         );
-        assert!(world.pushed.is_empty());
+        assert!(!world.objects.get(ObjectId(9)).predicted());
         // Seen again in part: now it grows over what was seen before, as any object seen in parts.
         let part = prism(32, 2.85, 1.3, 3.35, 1.55);
         world.remember(vec![part], &no_floor, &robot, &config);
@@ -1113,27 +1091,35 @@ pub(super) mod tests {
             ],
             ..WorldModel::default()
         };
-        world.settled.extend([ObjectId(1), ObjectId(36)]);
+        world
+            .objects
+            .judge(ObjectId(1), nudge_perception::grid::Verdict::Static, 1);
+        world
+            .objects
+            .judge(ObjectId(36), nudge_perception::grid::Verdict::Static, 2);
         let whole = solid(50, (2.6, 1.2, 3.4, 2.4), 1.1);
         world.remember(vec![whole], &floor(0.5, 3.0, 0.6, 3.1), &robot, &config);
         assert_eq!(world.prisms.len(), 1, "{:?}", world.prisms);
         assert_eq!(world.prisms[0].id, ObjectId(1));
         assert!(world.prisms[0].contains_xy(&Point2::new(3.3, 2.0)));
-        assert_eq!(world.joined.get(&ObjectId(36)), Some(&ObjectId(1)));
+        assert_eq!(world.objects.get(ObjectId(36)).joined, Some(ObjectId(1)));
     }
 
     /// A world seen out to the box (0, 0)–(6, 3), holding `prisms`, each shown by a look from (1, 1).
     fn seen_world(prisms: Vec<Prism>) -> WorldModel {
-        WorldModel {
+        let mut world = WorldModel {
             seen: Some((Point2::new(0.0, 0.0), Point2::new(6.0, 3.0))),
             looks: vec![Point2::new(1.0, 1.0)],
-            seen_from: prisms
-                .iter()
-                .map(|p| (p.id, vec![Point2::new(1.0, 1.0)]))
-                .collect(),
             prisms,
             ..WorldModel::default()
+        };
+        for p in &world.prisms {
+            world
+                .objects
+                .learn(p.id)
+                .seen_from_place(Point2::new(1.0, 1.0));
         }
+        world
     }
 
     #[test]
