@@ -17,6 +17,7 @@ pub mod grid;
 pub mod hue;
 pub mod icp;
 pub mod lookaround;
+pub mod moved_part;
 pub mod pipeline;
 pub mod prism;
 pub mod prisms;
@@ -30,6 +31,7 @@ pub use error::PerceptionError;
 pub use floor::{FloorConfig, FloorModel};
 pub use icp::{IcpConfig, IcpResult, colour_icp};
 pub use lookaround::{HeadView, LookAroundConfig, fuse};
+pub use moved_part::{MovedPart, MovedPartConfig, moved_part};
 pub use pipeline::{
     Detection, PerceptionConfig, detect, detect_from_views, detect_objects, detect_on_floor,
 };

@@ -148,6 +148,37 @@ fn a_light_tall_box_is_push_tested_below_tipping_and_found_movable_with_margin()
 }
 
 #[test]
+fn a_box_flush_beside_a_bolted_block_of_its_colour_is_split_off_by_its_push_test() {
+    // Invariant: where perception took a light box and the bolted block beside it for one obstacle,
+    // the push test that moved the box leaves the box movable and the block an obstacle of its own,
+    // untested, where the block truly stands (before, the block went with the box).
+    let (report, scored) = run("box-beside-its-twin", CandidatePolicy::Nearest);
+    assert_eq!(report.outcome, State::Goal);
+    assert_all_correct(&scored);
+    assert_eq!(report.knowledge.explanation.tests.len(), 1);
+    assert_eq!(
+        named(&scored, "box").map(|s| &s.verdict),
+        Some(&Verdict::Movable)
+    );
+    let block_centre = Point2::new(4.5, 1.525);
+    let block = report
+        .obstacles
+        .iter()
+        .find(|p| p.contains_xy(&block_centre))
+        .expect("an obstacle stands on the block");
+    assert!(
+        !report
+            .knowledge
+            .explanation
+            .verdicts
+            .contains_key(&block.id),
+        "the block was never tested"
+    );
+    let tested = report.knowledge.explanation.tests[0].object;
+    assert_ne!(block.id, tested, "the block is not the object tested");
+}
+
+#[test]
 fn the_blocking_policy_needs_no_more_push_tests_than_nearest() {
     // Invariant: policy blocking reaches the goal in the paper's room with no more push tests than nearest, all verdicts right.
     let (nearest, _) = run("kakiuchi-room", CandidatePolicy::Nearest);

@@ -57,6 +57,7 @@ impl WorldModel {
                         continue;
                     };
                     if (judged(a) && judged(b))
+                        || self.objects.apart(a.id, b.id)
                         || self.taller_than_moved(a, b)
                         || self.taller_than_moved(b, a)
                         || !oa.heights_overlap(ob)
@@ -131,6 +132,7 @@ impl WorldModel {
             let face = self.prisms.iter().enumerate().position(|(j, f)| {
                 j != i
                     && self.untouched(f.id)
+                    && !self.objects.apart(id, f.id)
                     && nudge_motion::Obstacle::from_prism(f)
                         .is_ok_and(|of| ox.distance_to_obstacle(&of) <= gap)
                     && one_object_l(x, f, robot, config)
@@ -160,7 +162,7 @@ impl WorldModel {
 
     /// How far apart (m) two obstacles' footprints may lie and still touch: two grid cells, as a
     /// hull's edge runs a cell off the face it was made from, on either side.
-    fn touching_gap(&self) -> f64 {
+    pub(super) fn touching_gap(&self) -> f64 {
         2.0 * self
             .grid
             .as_ref()
@@ -321,7 +323,7 @@ fn points_within(a: &Prism, b: &Prism, within: f64) -> bool {
 }
 
 /// Area of the polygon `f` (m², shoelace; either winding).
-fn area(f: &[Point2<f64>]) -> f64 {
+pub(super) fn area(f: &[Point2<f64>]) -> f64 {
     let n = f.len();
     (0..n)
         .map(|i| {

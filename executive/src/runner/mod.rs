@@ -20,6 +20,7 @@ mod rank;
 mod recheck;
 mod report;
 mod search_space;
+mod split;
 mod stroke;
 mod unseen;
 mod view;

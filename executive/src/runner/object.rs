@@ -64,6 +64,9 @@ pub(crate) struct Knowledge {
     /// When a look's detections last showed it, as robot time let pass
     /// ([`super::watchdog::Watchdog::elapsed`]); `None`: never.
     pub last_detected: Option<f64>,
+    /// Objects a push test saw part from this one (one obstacle to perception, two to the push):
+    /// they are never one obstacle again, whatever a look shows of them.
+    pub apart_from: Vec<ObjectId>,
 }
 
 impl Knowledge {
@@ -133,6 +136,7 @@ static NOTHING_KNOWN: Knowledge = Knowledge {
     joined: None,
     seen_from: Vec::new(),
     last_detected: None,
+    apart_from: Vec::new(),
 };
 
 impl Objects {
@@ -167,6 +171,28 @@ impl Objects {
         for p in places {
             whole.seen_from_place(p);
         }
+    }
+
+    /// Records that a push test moved object `moved` and left `rest` standing, where perception saw
+    /// one obstacle: `rest` is a new object, seen from where `moved` was and when, and that arrived
+    /// if it did, but none of its tests, verdicts or pushes are the rest's (they were of what the
+    /// hand moved). The two are never one obstacle again.
+    pub fn part(&mut self, moved: ObjectId, rest: ObjectId) {
+        let whole = self.get(moved);
+        let part = Knowledge {
+            seen_from: whole.seen_from.clone(),
+            last_detected: whole.last_detected,
+            arrived: whole.arrived,
+            apart_from: vec![moved],
+            ..Knowledge::default()
+        };
+        self.0.insert(rest, part);
+        self.learn(moved).apart_from.push(rest);
+    }
+
+    /// Whether a push test saw objects `a` and `b` move apart.
+    pub fn apart(&self, a: ObjectId, b: ObjectId) -> bool {
+        self.get(a).apart_from.contains(&b)
     }
 
     /// Each object a later look found part of another, with the id of the one it joined.
@@ -229,5 +255,25 @@ mod tests {
         assert!(!objects.get(part).predicted());
         assert_eq!(objects.joins().get(&part), Some(&whole));
         assert_eq!(objects.joins().len(), 1);
+    }
+
+    #[test]
+    fn what_a_push_left_standing_keeps_what_was_seen_but_no_verdict_and_stays_apart() {
+        // Invariant: the part a push test split off keeps where and when the obstacle was seen, none
+        // of its verdicts or pushes, and the two parts are apart both ways.
+        let mut objects = Objects::default();
+        let (moved, rest) = (ObjectId(2), ObjectId(9));
+        objects.learn(moved).seen_from_place(Point2::new(1.0, 1.0));
+        objects.learn(moved).last_detected = Some(4.0);
+        objects.judge(moved, Verdict::Movable, 1);
+        objects.pushed(moved);
+        objects.part(moved, rest);
+        let left = objects.get(rest);
+        assert_eq!(left.seen_from, vec![Point2::new(1.0, 1.0)]);
+        assert_eq!(left.last_detected, Some(4.0));
+        assert!(left.untouched());
+        assert!(objects.apart(moved, rest) && objects.apart(rest, moved));
+        assert!(!objects.apart(moved, ObjectId(3)));
+        assert!(objects.get(moved).movable());
     }
 }

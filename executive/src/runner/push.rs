@@ -11,6 +11,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::config::RunConfig;
 use super::navigate::{nearest_free, wrap};
+use super::split::TestClouds;
 use super::stroke::{Approach, Route, StrokeLine};
 use super::unseen::Floor;
 use super::world::WorldModel;
@@ -419,8 +420,25 @@ impl<R: Robot, O: Observer> Runner<R, O> {
         let icp = match (&prism, before) {
             (Some(p), Some(before)) => {
                 let shift = direction * stroke.travel_after_contact;
-                let after = self.object_points(p, slid_by + shift, hand_z)?;
-                let reading = icp_reading(&before, &after, shift);
+                let view = self.look_at_object(p, slid_by + shift, hand_z)?;
+                let after = crop(&view, p, slid_by + shift, motion.crop_margin);
+                let mut reading = icp_reading(&before, &after, shift);
+                // Where the hand moved only part of what perception took for one obstacle, the
+                // part that moved is the object tested, read on its own points.
+                if stroke.contact {
+                    let base = self.robot.base_pose()?.value;
+                    let seen = TestClouds {
+                        prism: p,
+                        before: &before,
+                        view: &view,
+                        slid_by,
+                        shift,
+                        face: base * Point2::new(stroke.end_x, contact.y) - shift,
+                    };
+                    if let Some(split) = self.split_what_moved(intent, &seen) {
+                        reading = split.reading;
+                    }
+                }
                 let classifier = &self.config.executive.classifier;
                 // Whatever the finding, a trusted motion reading is where the object is now: a retest
                 // plans from there.
@@ -525,7 +543,12 @@ impl<R: Robot, O: Observer> Runner<R, O> {
 
 /// The points of `cloud` (map frame) inside `prism`'s footprint moved by `shift` and grown by `margin`,
 /// above the floor and below its top.
-fn crop(cloud: &ColourCloud, prism: &Prism, shift: Vector2<f64>, margin: f64) -> ColourCloud {
+pub(super) fn crop(
+    cloud: &ColourCloud,
+    prism: &Prism,
+    shift: Vector2<f64>,
+    margin: f64,
+) -> ColourCloud {
     let mut out = ColourCloud::empty(CloudFrame::Map, *cloud.sensor_pose(), cloud.stamp());
     let Ok(region) = Obstacle::from_prism(prism).and_then(|o| o.translated(&shift)) else {
         return out;
@@ -545,7 +568,7 @@ fn crop(cloud: &ColourCloud, prism: &Prism, shift: Vector2<f64>, margin: f64) ->
 
 /// Colour ICP from the points before to the points after, starting from the hand's travel: the reading
 /// and the object's planar displacement.
-fn icp_reading(
+pub(super) fn icp_reading(
     before: &ColourCloud,
     after: &ColourCloud,
     shift: Vector2<f64>,

@@ -263,7 +263,16 @@ impl WorldModel {
         for new in detected {
             let new = self.parted_from_what_it_rests_against(new, config);
             let mut merged = new.clone();
+            let mut taken: Vec<ObjectId> = Vec::new();
             for old in self.prisms.iter().filter(|old| overlaps(old, &new)) {
+                if taken
+                    .iter()
+                    .chain([&merged.id])
+                    .any(|t| self.objects.apart(*t, old.id))
+                {
+                    // A push test saw them part: they are two, however one look shows them.
+                    continue;
+                }
                 if corner(&merged, old) {
                     // Two runs of structure at a corner (a wall and a partition), even one found
                     // static: their hull would be a triangle of floor.
@@ -298,6 +307,7 @@ impl WorldModel {
                     continue;
                 }
                 absorbed.push(old.id);
+                taken.push(old.id);
             }
             current.push(merged);
         }
@@ -383,6 +393,41 @@ impl WorldModel {
     /// smear, a piece of something else) to forget or join to another.
     pub(super) fn untouched(&self, id: ObjectId) -> bool {
         self.objects.get(id).untouched()
+    }
+
+    /// Splits obstacle `id` into `moved`, the part a push test moved (it keeps the id and what is
+    /// known of the object: the test was of what the hand moved), and `rest`, what stayed. A rest
+    /// no thicker than the touching gap (its area over its length) that touches another obstacle
+    /// is a strip of that neighbour's face which the obstacle's hull had swallowed (a hull's edge
+    /// runs up to a cell off the face it was made from, and the split's seam blurs as much): the
+    /// neighbour's own outline already stands to within that gap of it, and the strip is dropped.
+    /// Any other rest takes an id never used before and what was seen of the obstacle (see
+    /// [`Objects::part`]). Returns the rest's id, `None` when it was a strip.
+    pub fn split(&mut self, id: ObjectId, mut moved: Prism, mut rest: Prism) -> Option<ObjectId> {
+        let gap = self.touching_gap();
+        moved.id = id;
+        self.prisms.retain(|p| p.id != id);
+        let thin = super::fragments::area(&rest.footprint) <= gap * rest.extent();
+        let Ok(strip) = nudge_motion::Obstacle::from_prism(&rest) else {
+            self.prisms.push(moved);
+            return None;
+        };
+        let touches = self.prisms.iter().any(|q| {
+            nudge_motion::Obstacle::from_prism(q)
+                .is_ok_and(|o| o.distance_to_obstacle(&strip) <= gap)
+        });
+        self.prisms.push(moved);
+        if touches && thin {
+            return None;
+        }
+        let used = self.prisms.iter().map(|p| p.id.0 + 1).max().unwrap_or(0);
+        self.next_id = self.next_id.max(used);
+        let rest_id = ObjectId(self.next_id);
+        self.next_id = self.next_id.saturating_add(1);
+        rest.id = rest_id;
+        self.prisms.push(rest);
+        self.objects.part(id, rest_id);
+        Some(rest_id)
     }
 
     /// Moves obstacle `id` by a measured rigid `motion` (map frame; a confirmed push, which may have
