@@ -182,7 +182,9 @@ impl WorldModel {
             merged.points.push(p, c);
         }
         self.prisms[i] = merged;
-        // The merged obstacle was seen from wherever either piece was.
+        // The piece whose id goes joins the whole. The second piece's places go to the whole; the
+        // first piece's stay with its old id when that is the one that goes, though the whole was
+        // seen from them too (a gap kept as it was: handing them on changes runs).
         if id == a_id {
             self.objects.join(b.id, id);
         } else {

@@ -91,14 +91,21 @@ impl WorldModel {
     /// Gives the obstacles of a new detection that no remembered obstacle's id matched (perception's
     /// fresh ids) ids never used before in the run (see [`Self::next_id`]).
     pub fn number_fresh(&mut self, detected: &mut [Prism]) {
-        let used = self.prisms.iter().map(|p| p.id.0 + 1).max().unwrap_or(0);
-        self.next_id = self.next_id.max(used);
         for p in detected.iter_mut() {
             if !self.prisms.iter().any(|q| q.id == p.id) {
-                p.id = nudge_perception::ObjectId(self.next_id);
-                self.next_id = self.next_id.saturating_add(1);
+                p.id = self.fresh_id();
             }
         }
+    }
+
+    /// An id never used before in the run (see [`Self::next_id`]): past every id handed out and
+    /// every id an obstacle holds.
+    fn fresh_id(&mut self) -> ObjectId {
+        let used = self.prisms.iter().map(|p| p.id.0 + 1).max().unwrap_or(0);
+        self.next_id = self.next_id.max(used);
+        let id = ObjectId(self.next_id);
+        self.next_id = self.next_id.saturating_add(1);
+        id
     }
 
     /// Grows the seen box by the valid points of `cloud` (map frame).
@@ -420,10 +427,7 @@ impl WorldModel {
         if touches && thin {
             return None;
         }
-        let used = self.prisms.iter().map(|p| p.id.0 + 1).max().unwrap_or(0);
-        self.next_id = self.next_id.max(used);
-        let rest_id = ObjectId(self.next_id);
-        self.next_id = self.next_id.saturating_add(1);
+        let rest_id = self.fresh_id();
         rest.id = rest_id;
         self.prisms.push(rest);
         self.objects.part(id, rest_id);
